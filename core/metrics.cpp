@@ -1,0 +1,137 @@
+#include "core/metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_set>
+
+#include "core/geometry.hpp"
+#include "core/spatial_hash.hpp"
+
+namespace chainmail {
+
+const std::vector<std::string>& metric_names() {
+  static const std::vector<std::string> names = {
+      "max_stretch",   "mean_stretch",      "penetrating_linked", "penetrating_other",
+      "broken_links",  "false_links",       "drape_coefficient",  "drape_rms",
+      "kinetic_energy", "max_speed"};
+  return names;
+}
+
+double metric_value(const Metrics& m, const std::string& name) {
+  const double absent = std::numeric_limits<double>::quiet_NaN();
+  if (name == "max_stretch") return m.max_stretch;
+  if (name == "mean_stretch") return m.mean_stretch;
+  if (name == "penetrating_linked") return static_cast<double>(m.penetrating_linked);
+  if (name == "penetrating_other") return static_cast<double>(m.penetrating_other);
+  if (name == "broken_links") return static_cast<double>(m.broken_links);
+  if (name == "false_links") return static_cast<double>(m.false_links);
+  if (name == "drape_coefficient") return m.drape_coefficient.value_or(absent);
+  if (name == "drape_rms") return m.drape_rms.value_or(absent);
+  if (name == "kinetic_energy") return m.kinetic_energy;
+  if (name == "max_speed") return m.max_speed;
+  return absent;
+}
+
+Metrics measure(const RingFrame& frame, const Weave& weave, const Scene& scene,
+                const MetricOptions& options) {
+  Metrics m;
+  const RingGeometry& ring = scene.ring;
+  const double a = ring.wire_radius, c = ring.centre_radius;
+  const double tolerance = 1e-3 * a;
+  const int n = frame.size();
+
+  // non-finite entries are counted; geometry on them would be meaningless
+  m.non_finite = (!frame.position.array().isFinite()).count() +
+                 (!frame.orientation.array().isFinite()).count() +
+                 (!frame.velocity.array().isFinite()).count();
+  if (m.non_finite > 0) {
+    m.max_stretch = m.mean_stretch = m.kinetic_energy = m.max_speed =
+        std::numeric_limits<double>::quiet_NaN();
+    return m;
+  }
+
+  std::vector<Circle> circles(n);
+  for (int i = 0; i < n; ++i) circles[i] = ring_circle(frame.position.col(i), frame.quat(i), c);
+
+  // linked pairs: stretch, interpenetration, still linked
+  double stretch_sum = 0.0;
+  for (const RingPair& link : weave.links) {
+    const double stretch =
+        (frame.position.col(link.a) - frame.position.col(link.b)).norm() / ring.max_link_distance();
+    m.max_stretch = std::max(m.max_stretch, stretch);
+    stretch_sum += stretch;
+    m.penetrating_linked += tori_interpenetrate(circles[link.a], circles[link.b], a, tolerance);
+    m.broken_links += !circles_linked(circles[link.a], circles[link.b]);
+  }
+  if (!weave.links.empty()) m.mean_stretch = stretch_sum / weave.links.size();
+
+  // other pairs: only those whose centres are close enough to touch or link (< 2c + 2a)
+  if (options.other_pairs && n > 1) {
+    std::unordered_set<long long> linked;
+    for (const RingPair& link : weave.links) linked.insert(static_cast<long long>(link.a) * n + link.b);
+    const double reach = 2.0 * c + 2.0 * a;
+    SpatialHash hash;
+    hash.build(frame.position, reach);
+    hash.for_each_pair(frame.position, reach, [&](int i, int j) {
+      if (linked.count(static_cast<long long>(i) * n + j)) return;
+      m.penetrating_other += tori_interpenetrate(circles[i], circles[j], a, tolerance);
+      m.false_links += circles_linked(circles[i], circles[j]);
+    });
+  }
+
+  // motion
+  const double mass = ring.mass();
+  for (int i = 0; i < n; ++i) {
+    const double speed2 = frame.velocity.col(i).squaredNorm();
+    m.kinetic_energy += 0.5 * mass * speed2;
+    m.max_speed = std::max(m.max_speed, std::sqrt(speed2));
+  }
+  return m;
+}
+
+double drape_rms(const RingFrame& frame, const RingFrame& reference) {
+  const int n = std::min(frame.size(), reference.size());
+  if (n == 0) return 0.0;
+  return std::sqrt((frame.position.leftCols(n) - reference.position.leftCols(n))
+                       .colwise()
+                       .squaredNorm()
+                       .sum() /
+                   n);
+}
+
+double projected_area(const RingFrame& frame, double centre_radius, double cell) {
+  if (frame.size() == 0) return 0.0;
+  // rasterise the disks of radius c onto an x/z grid and count covered cells
+  const double r = centre_radius;
+  const double x0 = frame.position.row(0).minCoeff() - r, x1 = frame.position.row(0).maxCoeff() + r;
+  const double z0 = frame.position.row(2).minCoeff() - r, z1 = frame.position.row(2).maxCoeff() + r;
+  const int nx = static_cast<int>(std::ceil((x1 - x0) / cell)) + 1;
+  const int nz = static_cast<int>(std::ceil((z1 - z0) / cell)) + 1;
+  std::vector<unsigned char> covered(static_cast<size_t>(nx) * nz, 0);
+  const int span = static_cast<int>(std::ceil(r / cell));
+  for (int i = 0; i < frame.size(); ++i) {
+    const double px = frame.position(0, i), pz = frame.position(2, i);
+    const int cx = static_cast<int>((px - x0) / cell), cz = static_cast<int>((pz - z0) / cell);
+    for (int ix = std::max(0, cx - span); ix <= std::min(nx - 1, cx + span); ++ix) {
+      for (int iz = std::max(0, cz - span); iz <= std::min(nz - 1, cz + span); ++iz) {
+        const double qx = x0 + (ix + 0.5) * cell - px, qz = z0 + (iz + 0.5) * cell - pz;
+        if (qx * qx + qz * qz <= r * r) covered[static_cast<size_t>(ix) * nz + iz] = 1;
+      }
+    }
+  }
+  long long count = 0;
+  for (unsigned char v : covered) count += v;
+  return count * cell * cell;
+}
+
+double drape_coefficient(const RingFrame& frame, const RingFrame& flat, const Support& support,
+                         double centre_radius) {
+  const double cell = centre_radius / 4.0;
+  const double support_area = M_PI * support.radius * support.radius;
+  const double flat_area = projected_area(flat, centre_radius, cell);
+  const double shadow = projected_area(frame, centre_radius, cell);
+  return (shadow - support_area) / (flat_area - support_area);
+}
+
+}  // namespace chainmail

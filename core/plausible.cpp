@@ -1,0 +1,1 @@
+// plausible model: see plausible.hpp

@@ -1,0 +1,43 @@
+// Per-stage counters: which phases of a step ran, how often and for how long.
+// A stage a scene does not need never runs, so it never appears here.
+#pragma once
+
+#include <chrono>
+#include <map>
+#include <string>
+
+namespace chainmail {
+
+struct StageStats {
+  long long calls = 0;
+  double seconds = 0.0;
+};
+
+class StageProfile {
+ public:
+  // time one stage: `auto scope = profile.scope("collide");`
+  class Scope {
+   public:
+    Scope(StageStats& stats) : stats_(stats), start_(std::chrono::steady_clock::now()) {}
+    ~Scope() {
+      stats_.calls += 1;
+      stats_.seconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    }
+    Scope(const Scope&) = delete;
+    Scope& operator=(const Scope&) = delete;
+
+   private:
+    StageStats& stats_;
+    std::chrono::steady_clock::time_point start_;
+  };
+
+  Scope scope(const std::string& stage) { return Scope(stages_[stage]); }
+  const std::map<std::string, StageStats>& stages() const { return stages_; }
+  void clear() { stages_.clear(); }
+
+ private:
+  std::map<std::string, StageStats> stages_;
+};
+
+}  // namespace chainmail

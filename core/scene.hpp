@@ -1,0 +1,108 @@
+// Scene: one description of one experiment, shared by every backend.
+// Loaded from JSON, validated completely before anything runs (see DESIGN.md, "Scene file").
+#pragma once
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/ring.hpp"
+#include "core/types.hpp"
+
+namespace chainmail {
+
+// bad input: one message naming the file and the key; the command line exits with status 2
+class SceneError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// grid: a plain square grid of point masses (cloth scenes); neighbours share an edge, no rings interlock
+enum class WeaveType { chain, four_in_one, grid };
+// plane of the rest sheet: rows run along the first axis, rows advance along the second
+enum class SheetPlane { xz, xy, yz };
+
+struct WeaveSpec {
+  WeaveType type = WeaveType::four_in_one;
+  int rows = 10;  // physical rows of rings (chain: 1)
+  int cols = 10;  // rings per row (chain: number of rings)
+  SheetPlane plane = SheetPlane::xz;
+  Vec3 center = Vec3::Zero();  // m, centre of the rest sheet
+  double spacing = 0.9;  // chain: centre distance / inner diameter; grid: centre distance in m
+};
+
+struct PinSpec {
+  enum class Kind { ring, edge, corner };
+  Kind kind = Kind::ring;
+  int row = 0, col = 0;  // kind == ring: physical row and position in the row
+  std::string which;     // edge: top|bottom|left|right; corner: top_left|top_right|bottom_left|bottom_right
+};
+
+struct Collider {
+  enum class Type { plane, sphere, box, cylinder };
+  Type type = Type::plane;
+  Vec3 center = Vec3::Zero();        // m; plane: a point on it
+  Vec3 normal = Vec3::UnitY();       // plane only, unit
+  double radius = 0.0;               // sphere, cylinder; m
+  Vec3 half_extents = Vec3::Zero();  // box; m (axis aligned)
+  double half_height = 0.0;          // cylinder (axis along world y); m
+  double friction = 0.3;             // Coulomb coefficient
+};
+
+// the table under a draped sheet, for Cusick's drape coefficient (a disk in the x/z plane)
+struct Support {
+  Vec3 center = Vec3::Zero();
+  double radius = 0.0;
+};
+
+struct Camera {
+  bool automatic = true;  // frame the fabric when position/target are not given
+  Vec3 position = Vec3(0.0, 0.5, 1.0);
+  Vec3 target = Vec3::Zero();
+  double fov_deg = 40.0;
+};
+
+struct StabilityBounds {
+  double max_speed = 20.0;           // m/s; any ring faster is unstable
+  bool links_must_hold = true;       // a broken link is an instability
+  double energy_growth = 1.5;        // total energy may not exceed this factor of its start + input
+};
+
+struct Scene {
+  std::string name;
+  std::string description;
+  std::string file;  // where it came from, for messages
+
+  RingGeometry ring;
+  double ring_friction = 0.3;  // ring-ring Coulomb coefficient
+  WeaveSpec weave;
+  std::vector<PinSpec> pins;
+  std::vector<Collider> colliders;
+  std::optional<Support> support;
+  Vec3 gravity = Vec3(0.0, -9.81, 0.0);  // m/s^2
+  double duration = 1.0;                 // s
+  double sample_interval = 0.05;         // s between metric samples
+  bool self_contact = true;              // non-neighbour ring contact
+  bool write_frames = false;             // frames/<backend>/*.csv
+  Camera camera;
+  StabilityBounds stability;
+  std::string reference = "bullet";  // backend whose run drape_rms is measured against
+
+  nlohmann::json backends = nlohmann::json::object();  // per-backend knobs, validated by backends/
+  nlohmann::json resolved;                             // the whole scene with defaults filled in
+};
+
+// parse + validate; throws SceneError naming file and key
+Scene load_scene_file(const std::string& path, const std::vector<std::string>& overrides = {});
+Scene scene_from_json(const nlohmann::json& document, const std::string& file);
+// apply one "dotted.key=value" override to a raw scene document; throws SceneError
+void apply_override(nlohmann::json& document, const std::string& assignment,
+                    const std::string& file);
+
+const char* to_string(WeaveType type);
+const char* to_string(Collider::Type type);
+
+}  // namespace chainmail
