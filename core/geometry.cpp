@@ -85,10 +85,12 @@ int disk_crossings(const Circle& first, const Circle& second, int samples) {
   const double step = 2.0 * std::numbers::pi / samples;
   auto height = [&](double s) { return (b.at(s) - first.centre).dot(first.normal); };
 
+  // start at an irrational phase so symmetric cases do not put a sample exactly on the plane
+  const double phase = 0.1234567891;
   int crossings = 0;
-  double s0 = 0.0, h0 = height(s0);
+  double s0 = phase, h0 = height(s0);
   for (int k = 1; k <= samples; ++k) {
-    const double s1 = k * step, h1 = height(s1);
+    const double s1 = phase + k * step, h1 = height(s1);
     if ((h0 < 0.0) != (h1 < 0.0)) {
       // bisect the crossing, then ask whether it lies inside the disk
       double lo = s0, hi = s1, hlo = h0;
