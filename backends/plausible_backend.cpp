@@ -1,15 +1,62 @@
-// placeholder until the plausible backend lands
-#include <stdexcept>
-
+// Adapter: the paper's plausible model (core/plausible.hpp) behind the Backend interface.
 #include "backends/backend.hpp"
+#include "core/plausible.hpp"
 
 namespace chainmail {
+namespace {
+
+class PlausibleBackend final : public Backend {
+ public:
+  const char* name() const override { return "plausible"; }
+  void reset(const Scene& scene, const Weave& weave, const Knobs& knobs) override {
+    PlausibleSettings settings;
+    settings.iterations = static_cast<int>(knobs.at("iterations"));
+    settings.max_link_fraction = knobs.at("max_link_fraction");
+    settings.damping = knobs.at("damping");
+    settings.repulsion_fraction = knobs.at("repulsion_fraction");
+    settings.repulsion_stiffness = knobs.at("repulsion_stiffness");
+    settings.contact_margin = knobs.at("contact_margin");
+    settings.swivel = knobs.at("swivel") != 0.0;
+    settings.swivel_extended = knobs.at("swivel_extended");
+    settings.shock_propagation = knobs.at("shock_propagation") != 0.0;
+    sim_.reset(scene, weave, settings);
+  }
+  void step(double dt) override { sim_.step(dt); }
+  void frame(RingFrame& out) const override { sim_.frame(out); }
+  const StageProfile& profile() const override { return sim_.profile(); }
+
+ private:
+  PlausibleSim sim_;
+};
+
+}  // namespace
+
 BackendInfo plausible_backend_info() {
+  const PlausibleSettings d;
+  using T = KnobSpec::Type;
   BackendInfo info;
   info.name = "plausible";
-  info.summary = "not built yet";
-  info.knobs = {{"dt", KnobSpec::Type::number, 0.001, 1e-7, 1.0, "time step, s"}};
-  info.create = []() -> std::unique_ptr<Backend> { throw std::runtime_error("plausible: not built yet"); };
+  info.summary = "the paper's mass-per-ring model: Provot edge constraints, repulsion, swivel";
+  info.knobs = {
+      {"dt", T::number, 0.004, 1e-6, 0.1, "time step, s"},
+      {"iterations", T::integer, static_cast<double>(d.iterations), 1, 100000,
+       "constraint sweeps per step"},
+      {"max_link_fraction", T::number, d.max_link_fraction, 0.2, 1.0,
+       "largest neighbour distance / inner diameter"},
+      {"damping", T::number, d.damping, 0.0, 1000.0, "velocity drag, 1/s"},
+      {"repulsion_fraction", T::number, d.repulsion_fraction, 0.0, 2.0,
+       "non-neighbour repulsion range / inner diameter"},
+      {"repulsion_stiffness", T::number, d.repulsion_stiffness, 0.0, 1e9, "N/m"},
+      {"contact_margin", T::number, d.contact_margin, 0.0, 1.0,
+       "collider skin around a ring centre, m (0: a + c sin(a/c))"},
+      {"swivel", T::boolean, 1.0, 0.0, 1.0, "swivel rings into the 4-in-1 pattern"},
+      {"shock_propagation", T::boolean, 1.0, 0.0, 1.0,
+       "a last constraint pass outward from the pins, moving only the far ring"},
+      {"swivel_extended", T::number, d.swivel_extended, 0.0, 1.5707963267948966,
+       "swivel angle at full extension, rad (0: the paper's a/c)"},
+  };
+  info.create = [] { return std::make_unique<PlausibleBackend>(); };
   return info;
 }
+
 }  // namespace chainmail

@@ -77,10 +77,27 @@ bool tori_interpenetrate(const Circle& first, const Circle& second, double wire_
   const double limit = 2.0 * wire_radius - tolerance;
   // centre circles farther apart than the sum of radii plus the wire cannot touch
   if ((first.centre - second.centre).norm() > first.radius + second.radius + limit) return false;
-  return circle_circle_distance(first, second, 32) < limit;
+  // a sample below the limit decides at once; a sampled minimum can only be refined downwards by
+  // the distance function's Lipschitz bound (1 per unit arc length) times half a sample step, so
+  // minima above limit + that bound need no refinement
+  const int samples = 32;
+  const CircleParam b = parametrise(second);
+  const double step = 2.0 * std::numbers::pi / samples;
+  double value[samples];
+  for (int k = 0; k < samples; ++k) {
+    value[k] = point_circle_distance(b.at(k * step), first);
+    if (value[k] < limit) return true;
+  }
+  const double slack = second.radius * 0.5 * step;
+  double lowest = value[0];
+  for (int k = 1; k < samples; ++k) lowest = std::min(lowest, value[k]);
+  if (lowest > limit + slack) return false;
+  return circle_circle_distance(first, second, samples) < limit;
 }
 
 int disk_crossings(const Circle& first, const Circle& second, int samples) {
+  // far apart: the second circle cannot reach the first's disk
+  if ((first.centre - second.centre).norm() > first.radius + second.radius) return 0;
   const CircleParam b = parametrise(second);
   const double step = 2.0 * std::numbers::pi / samples;
   auto height = [&](double s) { return (b.at(s) - first.centre).dot(first.normal); };

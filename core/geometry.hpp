@@ -26,7 +26,7 @@ bool tori_interpenetrate(const Circle& first, const Circle& second, double wire_
                          double tolerance);
 
 // number of times `second` crosses the open disk bounded by `first`
-int disk_crossings(const Circle& first, const Circle& second, int samples = 256);
+int disk_crossings(const Circle& first, const Circle& second, int samples = 96);
 // linked iff the second circle crosses the disk of the first exactly once
 inline bool circles_linked(const Circle& first, const Circle& second) {
   return disk_crossings(first, second) == 1;

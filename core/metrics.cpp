@@ -80,6 +80,13 @@ Metrics measure(const RingFrame& frame, const Weave& weave, const Scene& scene,
     });
   }
 
+  // drape: Cusick's coefficient against the flat rest layout, only where the scene has a support
+  if (scene.support) {
+    RingFrame flat;
+    flat.position = weave.rest_position;
+    m.drape_coefficient = drape_coefficient(frame, flat, *scene.support, c);
+  }
+
   // motion
   const double mass = ring.mass();
   for (int i = 0; i < n; ++i) {

@@ -1,1 +1,110 @@
 #include "core/orientation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace chainmail {
+namespace {
+
+Quat quat_at(const Orientations& o, int i) { return Quat(o(0, i), o(1, i), o(2, i), o(3, i)); }
+void store(Orientations& o, int i, const Quat& q) { o.col(i) << q.w(), q.x(), q.y(), q.z(); }
+
+// direction along one grid axis: opposite neighbour to opposite neighbour for interior rings,
+// centre to the one neighbour on edges; false when the ring has no neighbour on that axis
+bool axis_vector(const Positions& p, int ring, int minus, int plus, Vec3& out, double& spacing) {
+  if (minus >= 0 && plus >= 0) {
+    out = p.col(plus) - p.col(minus);
+    spacing = 0.5 * out.norm();
+  } else if (plus >= 0) {
+    out = p.col(plus) - p.col(ring);
+    spacing = out.norm();
+  } else if (minus >= 0) {
+    out = p.col(ring) - p.col(minus);
+    spacing = out.norm();
+  } else {
+    return false;
+  }
+  return spacing > 1e-15;
+}
+
+}  // namespace
+
+Mat3 orthonormal_basis_eq1(const Vec3& x, const Vec3& z) {
+  const Vec3 xn = x.normalized(), zn = z.normalized();
+  const Vec3 y = zn.cross(xn).normalized();
+  const Vec3 v45 = (xn + zn).normalized();
+  const Vec3 v135 = y.cross(v45);
+  Mat3 basis;
+  basis.col(0) = (v45 + v135).normalized();
+  basis.col(1) = y;
+  basis.col(2) = basis.col(0).cross(y);
+  return basis;
+}
+
+double swivel_angle(double ratio, double min_ratio, double extended) {
+  const double compressed = 0.5 * std::numbers::pi;
+  const double t = std::clamp((1.0 - ratio) / (1.0 - min_ratio), 0.0, 1.0);
+  return extended + t * (compressed - extended);
+}
+
+void orient_rings(const Positions& position, const Weave& weave, const RingGeometry& ring,
+                  const OrientationSettings& settings, Orientations& orientation) {
+  const int n = weave.size();
+
+  if (weave.type == WeaveType::chain) {
+    // chain: x along the chain; each ring's axis perpendicular to the chain and to its
+    // predecessor's axis, so links alternate by quarter turns; the first follows its old axis
+    Vec3 previous_axis = Vec3::Zero();
+    for (int k = 0; k < n; ++k) {
+      Vec3 x;
+      double spacing;
+      if (!axis_vector(position, k, weave.neighbours[k][0], weave.neighbours[k][1], x, spacing)) {
+        continue;
+      }
+      x.normalize();
+      Vec3 y = k == 0 ? Vec3(quat_at(orientation, k) * Vec3::UnitY()) : x.cross(previous_axis);
+      y -= y.dot(x) * x;
+      if (y.norm() < 1e-9) y = x.unitOrthogonal();
+      y.normalize();
+      Mat3 basis;
+      basis.col(0) = x, basis.col(1) = y, basis.col(2) = x.cross(y);
+      store(orientation, k, Quat(basis).normalized());
+      previous_axis = y;
+    }
+    return;
+  }
+
+  const double min_ratio = ring.min_link_distance() / settings.max_link_distance;
+  const double extended = settings.extended_angle > 0.0 ? settings.extended_angle
+                                                        : ring.wire_radius / ring.centre_radius;
+  for (int i = 0; i < n; ++i) {
+    const auto& nb = weave.neighbours[i];
+    const Quat old = quat_at(orientation, i);
+    // neighbour vectors along both grid axes (X from (i-1,j)->(i+1,j), Z from (i,j-1)->(i,j+1));
+    // a ring with neighbours on one axis only keeps its old direction for the other
+    Vec3 x, z;
+    double dx = 0.0, dz = 0.0;
+    const bool has_x = axis_vector(position, i, nb[0], nb[1], x, dx);
+    const bool has_z = axis_vector(position, i, nb[2], nb[3], z, dz);
+    if (!has_x && !has_z) continue;
+    if (!has_x) x = old * Vec3::UnitX(), dx = dz;
+    if (!has_z) z = old * Vec3::UnitZ(), dz = dx;
+    if (x.normalized().cross(z.normalized()).norm() < 1e-6) continue;  // degenerate: keep old
+    const Mat3 basis = orthonormal_basis_eq1(x, z);
+    Quat q(basis);
+
+    if (settings.swivel && weave.type == WeaveType::four_in_one) {
+      // swivel about the axis weighted by the neighbour distances along each grid direction
+      // (equal distances: the row normal, about which European 4-in-1 rows lean); the angle grows
+      // from a/c at full extension to pi/2 under compression; its sign alternates by row
+      const Vec3 axis = (dx * basis.col(0) - dz * basis.col(2)).normalized();
+      const double ratio = 0.5 * (dx + dz) / settings.max_link_distance;
+      const double theta = weave.parity[i] * swivel_angle(ratio, min_ratio, extended);
+      q = Quat(Eigen::AngleAxisd(theta, axis)) * q;
+    }
+    store(orientation, i, q.normalized());
+  }
+}
+
+}  // namespace chainmail

@@ -7,18 +7,25 @@
 
 namespace chainmail {
 
-// eq. (1): orthogonalise two neighbour directions x, z (not necessarily orthogonal) into a
-// right-handed orthonormal basis (x', y, z') with y = |z x x| the ring axis.
-// v45 = |x + z|, v135 = y x v45, x' = |v45 + v135| ... rotated so x' and z' sit 45 deg either side
-// of v45, which keeps the basis symmetric between the two neighbour directions.
+// eq. (1): two neighbour directions x and z (not necessarily orthogonal) -> a right-handed
+// orthonormal basis, columns (x', y, z'), with y = |z x x| the ring axis and x', z' rotated apart to
+// 45 deg either side of the bisector v45 = |x + z|:  v135 = y x v45,  x' = |v45 + v135|,  z' = x' x y.
 Mat3 orthonormal_basis_eq1(const Vec3& x, const Vec3& z);
 
-// swivel angle: a/c when neighbours sit at full extension (ratio 1), pi/2 fully compressed (ratio
-// at the minimum distance); linear in between. ratio = mean neighbour distance / max distance.
-double swivel_angle(double distance_ratio, double min_ratio, const RingGeometry& ring);
+// swivel angle interpolated linearly between a/c at full extension (ratio 1) and pi/2 fully
+// compressed (ratio = min_ratio), ratio = mean neighbour distance / maximum link distance
+double swivel_angle(double ratio, double min_ratio, double extended_angle);
 
-// orientations of every ring of a sheet or chain from its centres (paper §4)
+struct OrientationSettings {
+  double max_link_distance = 0.0;  // m, the model's maximum neighbour distance
+  bool swivel = true;              // 4in1: swivel rings to form the weave
+  double extended_angle = 0.0;     // rad, swivel at full extension; the paper's a/c when 0
+};
+
+// orientations of every ring from the ring centres (paper §4). `orientation` holds the previous
+// orientations on entry (used only where a ring lacks neighbours along a grid direction) and the new
+// ones on exit.
 void orient_rings(const Positions& position, const Weave& weave, const RingGeometry& ring,
-                  double max_link_distance, Orientations& orientation);
+                  const OrientationSettings& settings, Orientations& orientation);
 
 }  // namespace chainmail

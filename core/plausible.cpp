@@ -1,1 +1,236 @@
-// plausible model: see plausible.hpp
+#include "core/plausible.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/colliders.hpp"
+#include "core/constraints.hpp"
+
+namespace chainmail {
+
+void PlausibleSim::reset(const Scene& scene, const Weave& weave, const PlausibleSettings& settings) {
+  weave_ = weave;
+  const int n = weave.size();
+  const RingGeometry& ring = scene.ring;
+
+  // fixed model
+  model_ = PlausibleModel{};
+  model_.ring = ring;
+  model_.settings = settings;
+  model_.mass = ring.mass();
+  model_.inverse_mass.assign(n, 1.0 / model_.mass);
+  for (int pinned : resolve_pins(scene, weave)) model_.inverse_mass[pinned] = 0.0;
+  const double max_length = settings.max_link_fraction * ring.inner_diameter();
+  for (const RingPair& link : weave.links) {
+    model_.edges.push_back({link.a, link.b, ring.min_link_distance(), max_length});
+  }
+  // breadth-first depth from the pins orders the outward pass
+  {
+    std::vector<int> depth(n, -1), queue;
+    for (int i = 0; i < n; ++i) {
+      if (model_.inverse_mass[i] == 0.0) depth[i] = 0, queue.push_back(i);
+    }
+    for (size_t head = 0; head < queue.size(); ++head) {
+      for (int other : weave.neighbours[queue[head]]) {
+        if (other >= 0 && depth[other] < 0) depth[other] = depth[queue[head]] + 1, queue.push_back(other);
+      }
+    }
+    for (const EdgeConstraint& e : model_.edges) {
+      if (depth[e.a] < 0 || depth[e.b] < 0 || depth[e.a] == depth[e.b]) continue;
+      EdgeConstraint directed = e;
+      if (depth[e.b] < depth[e.a]) std::swap(directed.a, directed.b);
+      model_.outward.push_back(directed);
+    }
+    // by depth of the far ring, then by far ring, so each ring's parent edges sit together
+    std::stable_sort(model_.outward.begin(), model_.outward.end(),
+                     [&](const EdgeConstraint& x, const EdgeConstraint& y) {
+                       return depth[x.b] != depth[y.b] ? depth[x.b] < depth[y.b] : x.b < y.b;
+                     });
+  }
+  model_.colliders = scene.colliders;
+  model_.gravity = scene.gravity;
+  model_.self_contact = scene.self_contact;
+  model_.repulsion_range = settings.repulsion_fraction * ring.inner_diameter();
+  model_.contact_margin =
+      settings.contact_margin > 0.0
+          ? settings.contact_margin
+          : ring.wire_radius + ring.centre_radius * std::sin(ring.wire_radius / ring.centre_radius);
+
+  // state at rest
+  state_ = PlausibleState{};
+  state_.position = weave.rest_position;
+  state_.previous = weave.rest_position;
+  state_.velocity = Positions::Zero(3, n);
+  state_.force = Positions::Zero(3, n);
+  state_.orientation = weave.rest_orientation;
+  state_.contact_push = Eigen::VectorXd::Zero(n);
+  state_.contact_normal = Positions::Zero(3, n);
+  state_.contact_friction = Eigen::VectorXd::Zero(n);
+  profile_.clear();
+  orient();
+}
+
+void PlausibleSim::step(double dt) {
+  // external forces: gravity, and repulsion between non-neighbours when self-contact is on
+  accumulate_forces();
+  // integrate: symplectic Euler prediction of the new positions
+  integrate(dt);
+  // Provot edge constraints, interleaved with collider projection when the scene has colliders
+  for (int it = 0; it < model_.settings.iterations; ++it) {
+    solve_constraints();
+    if (!model_.colliders.empty()) collide();
+  }
+  if (model_.settings.shock_propagation && !model_.outward.empty()) {
+    propagate_from_pins();
+    if (!model_.colliders.empty()) collide();
+  }
+  // velocities from the constrained motion (paper §3), collider friction, damping
+  update_velocities(dt);
+  // ring orientation from the neighbour vectors (paper §4)
+  orient();
+  state_.t += dt;
+}
+
+void PlausibleSim::accumulate_forces() {
+  auto scope = profile_.scope("forces");
+  const int n = static_cast<int>(state_.position.cols());
+  for (int i = 0; i < n; ++i) state_.force.col(i) = model_.mass * model_.gravity;
+  if (!model_.self_contact || n < 2) return;
+
+  auto repulsion = profile_.scope("self_contact");
+  const double range = model_.repulsion_range;
+  const double k = model_.settings.repulsion_stiffness;
+  hash_.build(state_.position, range);
+  hash_.for_each_pair(state_.position, range, [&](int i, int j) {
+    const auto& nb = weave_.neighbours[i];
+    if (nb[0] == j || nb[1] == j || nb[2] == j || nb[3] == j) return;  // linked: constraints hold them
+    const Vec3 f = repulsion_force(state_.position.col(i), state_.position.col(j), range, k);
+    state_.force.col(i) += f;
+    state_.force.col(j) -= f;
+  });
+}
+
+void PlausibleSim::integrate(double dt) {
+  auto scope = profile_.scope("integrate");
+  const int n = static_cast<int>(state_.position.cols());
+  state_.previous = state_.position;
+  for (int i = 0; i < n; ++i) {
+    const double w = model_.inverse_mass[i];
+    if (w == 0.0) continue;  // pinned
+    state_.velocity.col(i) += dt * w * state_.force.col(i);
+    state_.position.col(i) += dt * state_.velocity.col(i);
+  }
+  state_.contact_push.setZero();
+}
+
+void PlausibleSim::solve_constraints() {
+  auto scope = profile_.scope("constraints");
+  Positions& p = state_.position;
+  const std::vector<double>& w = model_.inverse_mass;
+  for (const EdgeConstraint& e : model_.edges) {
+    Vec3 corr0, corr1;
+    if (solve_edge_constraint(p.col(e.a), w[e.a], p.col(e.b), w[e.b], e.min_length, e.max_length,
+                              corr0, corr1)) {
+      p.col(e.a) += corr0;
+      p.col(e.b) += corr1;
+    }
+  }
+}
+
+void PlausibleSim::propagate_from_pins() {
+  auto scope = profile_.scope("propagate");
+  Positions& p = state_.position;
+  // edges are grouped by their far ring (sorted by depth); a ring with two parents (4-in-1) takes
+  // the mean of the projections onto each parent's sphere, so parents that are too far apart to
+  // satisfy both pull it to a compromise instead of making it jump from one to the other
+  const auto& edges = model_.outward;
+  for (size_t first = 0; first < edges.size();) {
+    size_t last = first;
+    while (last < edges.size() && edges[last].b == edges[first].b) ++last;
+    const int ring = edges[first].b;
+    if (model_.inverse_mass[ring] != 0.0) {
+      for (int pass = 0; pass < 2; ++pass) {
+        Vec3 sum = Vec3::Zero();
+        int count = 0;
+        for (size_t k = first; k < last; ++k) {
+          Vec3 corr0, corr1;
+          if (solve_edge_constraint(p.col(edges[k].a), 0.0, p.col(ring), 1.0, edges[k].min_length,
+                                    edges[k].max_length, corr0, corr1)) {
+            sum += corr1;
+            ++count;
+          }
+        }
+        if (count == 0) break;
+        p.col(ring) += sum / static_cast<double>(last - first);
+      }
+    }
+    first = last;
+  }
+}
+
+void PlausibleSim::collide() {
+  auto scope = profile_.scope("collide");
+  const int n = static_cast<int>(state_.position.cols());
+  for (int i = 0; i < n; ++i) {
+    if (model_.inverse_mass[i] == 0.0) continue;
+    for (const Collider& collider : model_.colliders) {
+      ColliderContact contact;
+      if (!collider_contact(collider, state_.position.col(i), model_.contact_margin, contact)) {
+        continue;
+      }
+      state_.position.col(i) += contact.depth * contact.normal;
+      state_.contact_push[i] += contact.depth;
+      state_.contact_normal.col(i) = contact.normal;
+      state_.contact_friction[i] = collider.friction;
+    }
+  }
+}
+
+void PlausibleSim::update_velocities(double dt) {
+  auto scope = profile_.scope("velocity");
+  const int n = static_cast<int>(state_.position.cols());
+  const double keep = std::max(0.0, 1.0 - model_.settings.damping * dt);
+  for (int i = 0; i < n; ++i) {
+    if (model_.inverse_mass[i] == 0.0) {
+      state_.velocity.col(i).setZero();
+      continue;
+    }
+    Vec3 v = (state_.position.col(i) - state_.previous.col(i)) / dt;
+    if (state_.contact_push[i] > 0.0) {
+      // Coulomb friction: the tangential velocity loses at most mu times the normal velocity change
+      const Vec3 normal = state_.contact_normal.col(i);
+      const Vec3 tangential = v - v.dot(normal) * normal;
+      const double speed = tangential.norm();
+      const double limit = state_.contact_friction[i] * state_.contact_push[i] / dt;
+      if (speed > 0.0) v -= tangential * std::min(1.0, limit / speed);
+    }
+    state_.velocity.col(i) = keep * v;
+  }
+}
+
+void PlausibleSim::orient() {
+  auto scope = profile_.scope("orient");
+  OrientationSettings settings;
+  settings.max_link_distance = model_.settings.max_link_fraction * model_.ring.inner_diameter();
+  settings.swivel = model_.settings.swivel;
+  settings.extended_angle = model_.settings.swivel_extended;
+  orient_rings(state_.position, weave_, model_.ring, settings, state_.orientation);
+}
+
+void PlausibleSim::frame(RingFrame& out) const {
+  out.t = state_.t;
+  out.position = state_.position;
+  out.orientation = state_.orientation;
+  out.velocity = state_.velocity;
+}
+
+double PlausibleSim::max_over_extension() const {
+  double worst = 0.0;
+  for (const EdgeConstraint& e : model_.edges) {
+    const double length = (state_.position.col(e.a) - state_.position.col(e.b)).norm();
+    worst = std::max(worst, (length - e.max_length) / e.max_length);
+  }
+  return worst;
+}
+
+}  // namespace chainmail

@@ -162,7 +162,10 @@ WeaveType parse_weave_type(const std::string& s) {
   return s == "chain" ? WeaveType::chain : s == "grid" ? WeaveType::grid : WeaveType::four_in_one;
 }
 SheetPlane parse_plane(const std::string& s) {
-  return s == "xy" ? SheetPlane::xy : s == "yz" ? SheetPlane::yz : SheetPlane::xz;
+  return s == "xy"   ? SheetPlane::xy
+         : s == "yz" ? SheetPlane::yz
+         : s == "yx" ? SheetPlane::yx
+                     : SheetPlane::xz;
 }
 
 void read_ring(Scene& scene, Reader& top) {
@@ -191,7 +194,7 @@ void read_weave(Scene& scene, Reader& top) {
     w.rows = r.integer("rows", std::nullopt, 1, 4096);
     w.cols = r.integer("cols", std::nullopt, 1, 4096);
   }
-  w.plane = parse_plane(r.string("plane", "xz", {"xz", "xy", "yz"}));
+  w.plane = parse_plane(r.string("plane", "xz", {"xz", "xy", "yz", "yx"}));
   w.center = r.vec3("center", Vec3::Zero());
   if (w.type == WeaveType::chain) {
     // non-neighbours of a chain (k, k+2) share a plane: they must sit at least c + a apart
@@ -333,8 +336,7 @@ Scene scene_from_json(const json& document, const std::string& file) {
 
   scene.gravity = top.vec3("gravity", Vec3(0.0, -9.81, 0.0), -1e4, 1e4);
   scene.duration = top.number("duration", std::nullopt, 0.0, 1e5, true);
-  scene.sample_interval = top.number("sample_interval", std::min(0.05, scene.duration), 0.0,
-                                     scene.duration, true);
+  scene.sample_interval = top.number("sample_interval", 0.05, 0.0, 1e5, true);
 
   {
     const json* node = top.child("features", false);
@@ -367,6 +369,7 @@ Scene scene_from_json(const json& document, const std::string& file) {
     Reader r(node ? *node : empty, "stability", file, resolved["stability"]);
     scene.stability.max_speed = r.number("max_speed", 20.0, 0.0, 1e6, true);
     scene.stability.links_must_hold = r.boolean("links_must_hold", true);
+    scene.stability.max_stretch = r.number("max_stretch", 1.25, 1.0, 1e3);
     scene.stability.energy_growth = r.number("energy_growth", 1.5, 1.0, 1e6);
     r.finish();
   }

@@ -23,7 +23,8 @@ class SceneError : public std::runtime_error {
 // grid: a plain square grid of point masses (cloth scenes); neighbours share an edge, no rings interlock
 enum class WeaveType { chain, four_in_one, grid };
 // plane of the rest sheet: rows run along the first axis, rows advance along the second
-enum class SheetPlane { xz, xy, yz };
+// (xy and yz advance downwards so row 0 is the top; yx runs rows downwards, for hanging chains)
+enum class SheetPlane { xz, xy, yz, yx };
 
 struct WeaveSpec {
   WeaveType type = WeaveType::four_in_one;
@@ -67,7 +68,8 @@ struct Camera {
 
 struct StabilityBounds {
   double max_speed = 20.0;           // m/s; any ring faster is unstable
-  bool links_must_hold = true;       // a broken link is an instability
+  bool links_must_hold = true;       // a torn link (stretched past max_stretch) is an instability
+  double max_stretch = 1.25;         // link centre distance / 2(c - a) beyond which a link is torn
   double energy_growth = 1.5;        // total energy may not exceed this factor of its start + input
 };
 

@@ -18,6 +18,7 @@ SheetAxes sheet_axes(SheetPlane plane) {
     case SheetPlane::xz: return {Vec3::UnitX(), Vec3::UnitZ(), Vec3::UnitY()};
     case SheetPlane::xy: return {Vec3::UnitX(), -Vec3::UnitY(), Vec3::UnitZ()};
     case SheetPlane::yz: return {Vec3::UnitZ(), -Vec3::UnitY(), -Vec3::UnitX()};
+    case SheetPlane::yx: return {-Vec3::UnitY(), Vec3::UnitX(), -Vec3::UnitZ()};
   }
   return {Vec3::UnitX(), Vec3::UnitZ(), Vec3::UnitY()};
 }

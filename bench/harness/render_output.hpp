@@ -1,0 +1,15 @@
+// Rendering a run's sampled frames side by side into images/ (and compare.mp4 when ffmpeg exists).
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "bench/harness/run.hpp"
+
+namespace chainmail {
+
+// a writer for OutputOptions::render; creating it checks that GL and the shaders are available
+// (throws SceneError-like errors that the command line maps to exit status 2)
+std::function<void(const SceneRun&, const std::string&)> make_render_writer(const std::string& cloth_shader);
+
+}  // namespace chainmail

@@ -1,0 +1,39 @@
+// Stateless position constraints (in the manner of PositionBasedDynamics): each function reads
+// positions and inverse masses and writes corrections; the caller owns the state.
+#pragma once
+
+#include "core/types.hpp"
+
+namespace chainmail {
+
+// Provot edge constraint: keep |p1 - p0| within [min_length, max_length].
+// The correction is shared by inverse mass; pinned ends (w = 0) do not move.
+// Returns false when the edge already satisfies the bounds (corrections untouched).
+inline bool solve_edge_constraint(const Vec3& p0, double w0, const Vec3& p1, double w1,
+                                  double min_length, double max_length, Vec3& corr0,
+                                  Vec3& corr1) {
+  const Vec3 d = p1 - p0;
+  const double length = d.norm();
+  const double w = w0 + w1;
+  if (w == 0.0 || length < 1e-15) return false;
+  double target;
+  if (length > max_length) target = max_length;
+  else if (length < min_length) target = min_length;
+  else return false;
+  const Vec3 n = d / length;
+  const double error = length - target;  // > 0 stretched, < 0 compressed
+  corr0 = (w0 / w * error) * n;
+  corr1 = -(w1 / w * error) * n;
+  return true;
+}
+
+// linear repulsion between two non-neighbour rings closer than `range`: a spring of stiffness k
+// pushing them apart (paper §3, after Bridson et al.); returns the force on p0 (p1 gets minus it)
+inline Vec3 repulsion_force(const Vec3& p0, const Vec3& p1, double range, double stiffness) {
+  const Vec3 d = p0 - p1;
+  const double length = d.norm();
+  if (length >= range || length < 1e-15) return Vec3::Zero();
+  return (stiffness * (range - length) / length) * d;
+}
+
+}  // namespace chainmail

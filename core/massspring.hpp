@@ -1,0 +1,138 @@
+// Mass-spring cloth (the cloth document): a grid of point masses joined by structural, shear and
+// bending Hooke springs, Verlet integration with percent damping, the over-extension correction
+// that keeps every spring within (1 + max_extension) of its rest length, pins, collider contact
+// with Coulomb friction and self-collision through the spatial hash with a thickness.
+//
+// The model (springs, masses, pins, colliders, settings) is built once and never changes; the
+// state (positions now and one step ago) is all that a step advances. The spring and contact
+// functions are stateless so they can be tested one by one.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/profile.hpp"
+#include "core/scene.hpp"
+#include "core/spatial_hash.hpp"
+#include "core/types.hpp"
+#include "core/weave.hpp"
+
+namespace chainmail::massspring {
+
+enum class SpringKind : std::uint8_t { structural, shear, bending };
+
+// one Hooke spring between masses a and b
+struct Spring {
+  int a = 0;
+  int b = 0;
+  double rest = 0.0;  // m
+  double k = 0.0;     // N/m
+  SpringKind kind = SpringKind::structural;
+};
+
+struct Settings {
+  double ks = 5000.0;                // structural spring constant, N/m
+  double shear_ks = 5000.0;          // N/m
+  double bend_ks = 1000.0;           // N/m
+  double damping_percent = 0.2;      // d: x_new = x + (1 - d/100)(x - x_prev) + a dt^2
+  int correction_passes = 1;         // over-extension passes per step (the document uses one)
+  double max_extension = 0.1;        // springs are kept within (1 + max_extension) rest
+  bool self_collision = false;       // the self_collide stage runs only when set
+  double thickness = 0.0;            // m; no two masses closer than this (self-collision)
+  int self_collision_passes = 4;     // projection sweeps over the candidate pairs per step
+  double self_collision_skin = 0.5;  // candidate search reach beyond the thickness, x thickness
+  int contact_rounds = 2;            // self_collide + collide rounds per step
+  double areal_density = 0.0;        // kg/m^2; 0 = every mass weighs point_mass
+  double point_mass = 0.0;           // kg, used when areal_density is 0
+  double collision_margin = 0.0;     // m; masses stay this far outside every collider
+};
+
+struct Model {
+  std::vector<Spring> springs;       // (m)
+  Eigen::VectorXd mass;              // (n) kg
+  Eigen::VectorXd inv_mass;          // (n) 1/kg; 0 for pinned masses
+  std::vector<std::uint8_t> pinned;  // (n) 1 = never moves
+  std::vector<Collider> colliders;
+  Vec3 gravity = Vec3(0.0, -9.81, 0.0);  // m/s^2
+  Settings settings;
+
+  int size() const { return static_cast<int>(mass.size()); }
+};
+
+struct State {
+  Positions position;    // (3, n) m
+  Positions previous;    // (3, n) m, position one step earlier (Verlet)
+  Positions force;       // (3, n) N, scratch of the force phase
+  double t = 0.0;        // s
+  double last_dt = 0.0;  // s, the step that produced position from previous
+
+  std::vector<std::uint8_t> contact;  // (n) 1 = pushed out of a collider during this step
+
+  // self-collision scratch: candidate pairs within thickness + skin of the positions at the last
+  // search; searched again once any mass has moved more than half the skin since then
+  SpatialHash hash;
+  std::vector<RingPair> candidates;
+  Positions searched_at;  // (3, n) m
+
+  int size() const { return static_cast<int>(position.cols()); }
+  Vec3 velocity(int i) const;  // (position - previous) / last_dt, m/s
+};
+
+// --- stateless pieces --------------------------------------------------------------------------
+
+// Hooke's law: the force on the mass at p0 of a spring to p1, k (|d| - rest) d / |d|, d = p1 - p0
+Vec3 hooke_force(const Vec3& p0, const Vec3& p1, double rest, double ks);
+
+// springs from grid topology: structural (i+-1, j), (i, j+-1); shear the four diagonals; bending
+// (i+-2, j), (i, j+-2); rest lengths are the distances in the rest layout
+std::vector<Spring> build_springs(const Weave& weave, const Positions& rest,
+                                  const Settings& settings);
+
+// rest area of the sheet (sum of the grid cells' quads) divided by the number of masses, m^2
+double area_per_mass(const Weave& weave, const Positions& rest);
+
+// one pass of the document's correction: every spring longer than (1 + max_extension) rest is
+// shortened to that length by moving its ends (weighted by inverse mass; pinned ends stay).
+// Returns how many springs were over-extended when visited.
+int correct_overextension(const std::vector<Spring>& springs, const Eigen::VectorXd& inv_mass,
+                          double max_extension, Positions& position);
+
+// pushes p out of the collider (plus margin); returns the penetration depth removed (0: none)
+// and the outward surface normal in `normal`
+double project_out(const Collider& collider, double margin, Vec3& p, Vec3& normal);
+
+// Coulomb friction at position level: the tangential part of this step's motion (p - p_prev)
+// is cancelled when it is below friction * depth (sticking) and shortened by that much otherwise
+void apply_friction(const Vec3& p_prev, const Vec3& normal, double depth, double friction, Vec3& p);
+
+// ring orientation that follows the cloth surface (no swivel): axis (local +Y) = the surface normal
+// from neighbour vectors, local X along (i+1, j) - (i-1, j); `flip` per ring turns the normal
+// over so that it agrees with the rest layout's normal. (4, n) w, x, y, z
+void surface_orientations(const Positions& position, const Weave& weave,
+                          const std::vector<std::int8_t>& flip, Orientations& orientation);
+// +1 / -1 per ring: whether the neighbour-vector normal of the rest layout already points along
+// weave.normal_axis
+std::vector<std::int8_t> normal_signs(const Weave& weave);
+
+// --- model and step ----------------------------------------------------------------------------
+
+Model make_model(const Scene& scene, const Weave& weave, const Settings& settings);
+// at rest in the weave's rest layout, zero velocity
+State make_state(const Model& model, const Positions& rest);
+
+// phases of one step, in order
+void accumulate_forces(const Model& model, const Positions& position, Positions& force);
+void verlet_integrate(const Model& model, double dt, State& state);
+int constrain(const Model& model, State& state);  // returns springs corrected, last pass
+// pushes masses out of the colliders and marks them in state.contact (step clears the marks)
+int collide(const Model& model, State& state);  // returns masses pushed out
+// pairs closer than the thickness are pushed apart; a mass resting on a collider (state.contact)
+// holds still against a free one. Returns pairs pushed apart.
+int self_collide(const Model& model, State& state);
+
+// one time step: forces, integrate, constrain, collide, then rounds of self_collide + collide
+// (colliders have the last word: self-collision may push a free mass into one); stages a model
+// does not need never run
+void step(const Model& model, State& state, double dt, StageProfile& profile);
+
+}  // namespace chainmail::massspring
