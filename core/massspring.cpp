@@ -35,15 +35,23 @@ class GridLookup {
   std::vector<int> index_;  // (ni * nj)
 };
 
-// the unnormalised surface normal and row direction at mass m from its grid neighbours
-// (one-sided at the border): u = p(i+1, j) - p(i-1, j), v = p(i, j+1) - p(i, j-1), n = v x u
+// the unnormalised surface normal and row direction at mass m from its grid neighbours:
+// u = p(i+1, j) - p(i-1, j) (one-sided at the border); n = the sum of d(k+1) x d(k) over the
+// quadrants whose two edges exist, with d0..d3 the edges to (i+1, j), (i, j+1), (i-1, j), (i, j-1),
+// so that a border mass gets a normal that agrees with its inner neighbours; a mass with no
+// quadrant (a chain) falls back to v x u, v = p(i, j+1) - p(i, j-1)
 void neighbour_vectors(const Positions& position, const Weave& weave, int m, Vec3& u, Vec3& n) {
   const auto& nb = weave.neighbours[m];
   const Vec3 p = position.col(m);
   auto at = [&](int k) { return k >= 0 ? Vec3(position.col(k)) : p; };
   u = at(nb[1]) - at(nb[0]);
-  const Vec3 v = at(nb[3]) - at(nb[2]);
-  n = v.cross(u);
+  const int around[4] = {nb[1], nb[3], nb[0], nb[2]};  // +i, +j, -i, -j
+  n = Vec3::Zero();
+  for (int k = 0; k < 4; ++k) {
+    const int a = around[k], b = around[(k + 1) % 4];
+    if (a >= 0 && b >= 0) n += (at(b) - p).cross(at(a) - p);
+  }
+  if (n.squaredNorm() == 0.0) n = (at(nb[3]) - at(nb[2])).cross(u);
 }
 
 }  // namespace

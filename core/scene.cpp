@@ -360,7 +360,11 @@ Scene scene_from_json(const json& document, const std::string& file) {
     scene.camera.position = r.vec3("position", Vec3(0.0, 0.5, 1.0));
     scene.camera.target = r.vec3("target", Vec3::Zero());
     scene.camera.fov_deg = r.number("fov_deg", 40.0, 1.0, 170.0);
-    r.resolved()["automatic"] = scene.camera.automatic;
+    if (scene.camera.automatic) {
+      // keep the resolved scene reloadable with the same meaning: no fixed camera
+      r.resolved().erase("position");
+      r.resolved().erase("target");
+    }
     r.finish();
   }
   {

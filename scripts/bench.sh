@@ -1,0 +1,6 @@
+#!/usr/bin/env bash
+# Installs, builds and runs the main job: the default bench, writing results/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+./scripts/build.sh release
+./build/release/bench/chainmail bench --out results

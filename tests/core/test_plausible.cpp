@@ -1,0 +1,179 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "core/orientation.hpp"
+#include "core/plausible.hpp"
+
+namespace chainmail {
+namespace {
+
+using json = nlohmann::json;
+
+Scene curtain(int rows, int cols) {
+  return scene_from_json(json{{"name", "curtain"},
+                              {"weave", {{"type", "4in1"}, {"rows", rows}, {"cols", cols},
+                                         {"plane", "xy"}, {"center", {0, 0.3, 0}}}},
+                              {"pins", json::array({{{"edge", "top"}}})},
+                              {"duration", 1.0}},
+                         "test");
+}
+
+TEST(Plausible, OverExtensionShrinksWithIterations) {
+  // plain Gauss-Seidel sweeps (no outward pass): the stretch left after a step falls as the sweep
+  // count grows, and vanishes at a high count
+  const Scene scene = curtain(30, 30);
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  std::vector<double> residual;
+  for (int iterations : {1, 4, 16, 64, 256, 1024, 4096}) {
+    PlausibleSettings settings;
+    settings.iterations = iterations;
+    settings.shock_propagation = false;
+    PlausibleSim sim;
+    sim.reset(scene, weave, settings);
+    // disturb the sheet first: every free ring displaced by up to 1.5 mm (same seed every time)
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-0.0015, 0.0015);
+    for (int i = 0; i < weave.size(); ++i) {
+      const Vec3 kick(u(rng), u(rng), u(rng));
+      if (sim.model().inverse_mass[i] > 0) sim.mutable_state().position.col(i) += kick;
+    }
+    sim.step(0.004);
+    residual.push_back(sim.max_over_extension());
+    std::printf("iterations %5d: max over-extension %.3g\n", iterations, residual.back());
+  }
+  for (size_t k = 1; k < residual.size(); ++k) EXPECT_LE(residual[k], residual[k - 1] + 1e-12);
+  EXPECT_LT(residual[3], 0.5 * residual[0]);
+  EXPECT_GT(residual.front(), 1e-3);
+  EXPECT_LT(residual.back(), 1e-6);
+}
+
+TEST(Plausible, OutwardPassRemovesHangingStretch) {
+  const Scene scene = curtain(30, 30);
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  PlausibleSettings settings;
+  settings.iterations = 4;
+  PlausibleSim sim;
+  sim.reset(scene, weave, settings);
+  for (int s = 0; s < 250; ++s) sim.step(0.004);
+  EXPECT_LT(sim.max_over_extension(), 0.05);
+}
+
+TEST(Plausible, PinnedRingsNeverMove) {
+  const Scene scene = curtain(12, 12);
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  PlausibleSim sim;
+  sim.reset(scene, weave, PlausibleSettings{});
+  const std::vector<int> pinned = resolve_pins(scene, weave);
+  ASSERT_EQ(pinned.size(), 12u);
+  for (int s = 0; s < 300; ++s) sim.step(0.004);
+  for (int i : pinned) {
+    EXPECT_EQ(sim.state().position.col(i), weave.rest_position.col(i)) << "ring " << i;
+  }
+  // and the rest did move
+  EXPECT_GT((sim.state().position - weave.rest_position).norm(), 0.01);
+}
+
+TEST(Plausible, FreeFallWithoutConstraintsMatchesHalfGTSquared) {
+  const Scene scene = scene_from_json(
+      json{{"name", "drop"}, {"weave", {{"type", "4in1"}, {"rows", 1}, {"cols", 1}}}, {"duration", 1.0}},
+      "test");
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  PlausibleSettings settings;
+  settings.damping = 0.0;
+  PlausibleSim sim;
+  sim.reset(scene, weave, settings);
+  const double dt = 0.001, g = 9.81;
+  const double y0 = sim.state().position(1, 0);
+  for (int s = 0; s < 500; ++s) sim.step(dt);
+  const double t = 0.5;
+  const double fallen = y0 - sim.state().position(1, 0);
+  // symplectic Euler: exactly g dt^2 n (n + 1) / 2 = g t^2 / 2 + g t dt / 2
+  EXPECT_NEAR(fallen, 0.5 * g * t * t, 0.5 * g * t * dt + 1e-12);
+  EXPECT_NEAR(fallen, 0.5 * g * t * t + 0.5 * g * t * dt, 1e-9);
+}
+
+TEST(Plausible, SheetDroppedOnPlaneRestsWithoutSinking) {
+  const Scene scene = scene_from_json(
+      json{{"name", "rest"},
+           {"weave", {{"type", "4in1"}, {"rows", 10}, {"cols", 10}, {"plane", "xz"}, {"center", {0, 0.02, 0}}}},
+           {"colliders", json::array({{{"type", "plane"}, {"point", {0, 0, 0}}, {"normal", {0, 1, 0}}}})},
+           {"duration", 1.0}},
+      "test");
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  PlausibleSim sim;
+  sim.reset(scene, weave, PlausibleSettings{});
+  for (int s = 0; s < 500; ++s) sim.step(0.004);
+  const double margin = sim.model().contact_margin;
+  EXPECT_GE(sim.state().position.row(1).minCoeff(), margin - 1e-9);
+  EXPECT_LT(sim.state().position.row(1).maxCoeff(), margin + scene.ring.inner_diameter());
+  EXPECT_LT(sim.state().velocity.cwiseAbs().maxCoeff(), 1e-3);  // at rest
+}
+
+TEST(Orientation, Eq1GivesOrthonormalRightHandedBasis) {
+  const Vec3 pairs[][2] = {{Vec3(1, 0, 0), Vec3(0, 0, 1)},
+                           {Vec3(1, 0.2, 0.3), Vec3(0.4, -0.1, 1)},
+                           {Vec3(2, 0, 0), Vec3(1.5, 0, 0.2)},
+                           {Vec3(-0.3, 1, 0.2), Vec3(0.1, 0.1, -2)}};
+  for (const auto& pair : pairs) {
+    const Mat3 m = orthonormal_basis_eq1(pair[0], pair[1]);
+    EXPECT_NEAR((m.transpose() * m - Mat3::Identity()).norm(), 0.0, 1e-12);
+    EXPECT_NEAR(m.determinant(), 1.0, 1e-12);
+    // y is normal to both neighbour directions; x', z' sit symmetrically about their bisector
+    EXPECT_NEAR(m.col(1).dot(pair[0]), 0.0, 1e-12);
+    EXPECT_NEAR(m.col(1).dot(pair[1]), 0.0, 1e-12);
+    const Vec3 bisector = (pair[0].normalized() + pair[1].normalized()).normalized();
+    EXPECT_NEAR(m.col(0).dot(bisector), std::sqrt(0.5), 1e-12);
+    EXPECT_NEAR(m.col(2).dot(bisector), std::sqrt(0.5), 1e-12);
+  }
+}
+
+TEST(Orientation, SwivelFromExtendedToCompressed) {
+  const RingGeometry ring = RingGeometry::from_diameters(0.0016, 0.008, 7850.0);
+  const double a_over_c = ring.wire_radius / ring.centre_radius;
+  const double min_ratio = 0.2;
+  EXPECT_DOUBLE_EQ(swivel_angle(1.0, min_ratio, a_over_c), a_over_c);
+  EXPECT_DOUBLE_EQ(swivel_angle(min_ratio, min_ratio, a_over_c), 0.5 * std::numbers::pi);
+  double previous = 0.0;
+  for (double ratio = 1.0; ratio >= min_ratio; ratio -= 0.1) {
+    const double angle = swivel_angle(ratio, min_ratio, a_over_c);
+    EXPECT_GT(angle, previous);
+    previous = angle;
+  }
+  // the model at full extension: interior rings swivel by a/c out of the eq. (1) basis
+  const Scene scene = curtain(6, 6);
+  Weave weave = make_weave(scene.weave, scene.ring);
+  Positions stretched = weave.rest_position;
+  const double max_link = 0.95 * ring.inner_diameter();
+  // scale the layout so neighbours sit exactly at the maximum distance
+  const double rest = (weave.rest_position.col(weave.links[0].a) - weave.rest_position.col(weave.links[0].b)).norm();
+  stretched *= max_link / rest;
+  Orientations orientation = weave.rest_orientation;
+  orient_rings(stretched, weave, ring, OrientationSettings{max_link, true, 0.0}, orientation);
+  Orientations flat = weave.rest_orientation;
+  orient_rings(stretched, weave, ring, OrientationSettings{max_link, false, 0.0}, flat);
+  const int interior = weave.ring_at_row_col(2, 2);
+  const Quat q(orientation(0, interior), orientation(1, interior), orientation(2, interior), orientation(3, interior));
+  const Quat f(flat(0, interior), flat(1, interior), flat(2, interior), flat(3, interior));
+  EXPECT_NEAR(q.angularDistance(f), a_over_c, 1e-9);
+}
+
+TEST(Plausible, SameSceneTwiceSameHash) {
+  const Scene scene = curtain(10, 10);
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  std::uint64_t hashes[2];
+  for (auto& h : hashes) {
+    PlausibleSim sim;
+    sim.reset(scene, weave, PlausibleSettings{});
+    for (int s = 0; s < 100; ++s) sim.step(0.004);
+    RingFrame frame;
+    sim.frame(frame);
+    h = frame_hash(frame);
+  }
+  EXPECT_EQ(hashes[0], hashes[1]);
+}
+
+}  // namespace
+}  // namespace chainmail
