@@ -5,7 +5,19 @@
 #include <exception>
 
 #include "bench/harness/commands.hpp"
+#include "bench/harness/suites.hpp"
 #include "core/scene.hpp"
+
+#include <filesystem>
+
+namespace {
+// this binary, so sweep points run the very same build
+std::string self_path(const char* argv0) {
+  std::error_code ec;
+  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string(argv0) : exe.string();
+}
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace chainmail;
@@ -22,6 +34,35 @@ int main(int argc, char** argv) {
   run_app->add_option("--shader", run.shader, "cloth shader for --render");
   run_app->add_option("--set", run.overrides, "override a scene key: dotted.key=value");
   run_app->add_option("--cache", run.cache_dir, "reference-run cache folder");
+  bool run_quiet = false;
+  run_app->add_flag("--quiet", run_quiet, "no progress lines");
+
+  SweepCommand sweep;
+  CLI::App* sweep_app = app.add_subcommand("sweep", "error against run time over a grid of knob values");
+  sweep_app->add_option("scene", sweep.scene_file, "scene file (JSON)")->required();
+  sweep_app->add_option("--vary", sweep.vary, "KEY=v1,v2,... ({backend} in KEY: each backend)")->required();
+  sweep_app->add_option("--backends", sweep.backends, "backends: a list, or all")->delimiter(',');
+  sweep_app->add_option("--set", sweep.overrides, "override a scene key for every point");
+  sweep_app->add_option("--out", sweep.out_dir, "output folder (default results/<scene>/sweep)");
+  sweep_app->add_option("--jobs", sweep.jobs, "points run in parallel")->check(CLI::Range(1, 256));
+  sweep_app->add_flag("--print-jobs", sweep.print_jobs, "print each point's command line and stop");
+  sweep_app->add_option("--cache", sweep.cache_dir, "reference-run cache folder");
+
+  StabilityCommand stability;
+  CLI::App* stability_app = app.add_subcommand("stability", "stiff and extreme cases: verdicts and largest stable dt");
+  stability_app->add_option("--backends", stability.backends, "backends: a list, or all")->delimiter(',');
+  stability_app->add_option("--out", stability.out_dir, "output folder");
+  stability_app->add_flag("--quick", stability.quick, "tiny sizes (test mode)");
+  stability_app->add_option("--max-wall", stability.max_wall_seconds, "watchdog per run, s")->check(CLI::PositiveNumber);
+
+  BenchCommand bench;
+  CLI::App* bench_app = app.add_subcommand("bench", "the default scene set across all backends, writing results/");
+  bench_app->add_option("--out", bench.out_dir, "output folder");
+  bench_app->add_flag("--quick", bench.quick, "reduced sizes and durations (test mode)");
+  bench_app->add_option("--backends", bench.backends, "backends: a list, or all")->delimiter(',');
+  bench_app->add_option("--jobs", bench.jobs, "sweep points in parallel")->check(CLI::Range(1, 256));
+  bool no_render = false;
+  bench_app->add_flag("--no-render", no_render, "skip the side-by-side frames");
 
   try {
     app.parse(argc, argv);
@@ -35,7 +76,20 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*run_app) return run_command(run);
+    if (*run_app) {
+      run.progress = !run_quiet;
+      return run_command(run);
+    }
+    if (*sweep_app) {
+      sweep.executable = self_path(argv[0]);
+      return sweep_command(sweep);
+    }
+    if (*stability_app) return stability_command(stability);
+    if (*bench_app) {
+      bench.executable = self_path(argv[0]);
+      bench.render = !no_render;
+      return bench_command(bench);
+    }
   } catch (const SceneError& e) {
     std::fprintf(stderr, "chainmail: %s\n", e.what());
     return kExitBadInput;

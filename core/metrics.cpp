@@ -88,10 +88,10 @@ Metrics measure(const RingFrame& frame, const Weave& weave, const Scene& scene,
   }
 
   // motion
-  const double mass = ring.mass();
+  const std::vector<double> mass = ring_masses(scene, weave);
   for (int i = 0; i < n; ++i) {
     const double speed2 = frame.velocity.col(i).squaredNorm();
-    m.kinetic_energy += 0.5 * mass * speed2;
+    m.kinetic_energy += 0.5 * mass[i] * speed2;
     m.max_speed = std::max(m.max_speed, std::sqrt(speed2));
   }
   return m;

@@ -17,8 +17,9 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave, const Plausible
   model_ = PlausibleModel{};
   model_.ring = ring;
   model_.settings = settings;
-  model_.mass = ring.mass();
-  model_.inverse_mass.assign(n, 1.0 / model_.mass);
+  model_.mass = ring_masses(scene, weave);
+  model_.inverse_mass.resize(n);
+  for (int i = 0; i < n; ++i) model_.inverse_mass[i] = 1.0 / model_.mass[i];
   for (int pinned : resolve_pins(scene, weave)) model_.inverse_mass[pinned] = 0.0;
   const double max_length = settings.max_link_fraction * ring.inner_diameter();
   for (const RingPair& link : weave.links) {
@@ -61,6 +62,9 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave, const Plausible
   state_.position = weave.rest_position;
   state_.previous = weave.rest_position;
   state_.velocity = Positions::Zero(3, n);
+  for (int i = 0; i < n; ++i) {
+    if (model_.inverse_mass[i] > 0.0) state_.velocity.col(i) = scene.initial_velocity;
+  }
   state_.force = Positions::Zero(3, n);
   state_.orientation = weave.rest_orientation;
   state_.contact_push = Eigen::VectorXd::Zero(n);
@@ -94,7 +98,7 @@ void PlausibleSim::step(double dt) {
 void PlausibleSim::accumulate_forces() {
   auto scope = profile_.scope("forces");
   const int n = static_cast<int>(state_.position.cols());
-  for (int i = 0; i < n; ++i) state_.force.col(i) = model_.mass * model_.gravity;
+  for (int i = 0; i < n; ++i) state_.force.col(i) = model_.mass[i] * model_.gravity;
   if (!model_.self_contact || n < 2) return;
 
   auto repulsion = profile_.scope("self_contact");

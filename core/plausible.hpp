@@ -40,7 +40,7 @@ struct EdgeConstraint {
 // fixed model: built once from the scene
 struct PlausibleModel {
   RingGeometry ring;
-  double mass = 0.0;                   // kg per ring
+  std::vector<double> mass;            // (n) kg
   std::vector<double> inverse_mass;    // (n) 1/kg, 0 for pinned rings
   std::vector<EdgeConstraint> edges;   // (m) neighbour links
   std::vector<EdgeConstraint> outward; // edges reachable from a pin, a = nearer the pin, by depth

@@ -334,6 +334,27 @@ Scene scene_from_json(const json& document, const std::string& file) {
     scene.support = s;
   }
 
+  if (const json* loads = top.array("loads")) {
+    json& out = resolved["loads"] = json::array();
+    for (size_t k = 0; k < loads->size(); ++k) {
+      json entry;
+      Reader r((*loads)[k], "loads[" + std::to_string(k) + "]", file, entry);
+      Load load;
+      const json* ring = r.array("ring");
+      if (!ring || ring->size() != 2 || !(*ring)[0].is_number_integer() ||
+          !(*ring)[1].is_number_integer()) {
+        r.fail(r.key_path("ring"), "must be [row, col] integers");
+      }
+      load.row = (*ring)[0].get<int>();
+      load.col = (*ring)[1].get<int>();
+      entry["ring"] = {load.row, load.col};
+      load.mass_factor = r.number("mass_factor", std::nullopt, 1e-3, 1e6);
+      r.finish();
+      scene.loads.push_back(load);
+      out.push_back(entry);
+    }
+  }
+  scene.initial_velocity = top.vec3("initial_velocity", Vec3::Zero(), -1e3, 1e3);
   scene.gravity = top.vec3("gravity", Vec3(0.0, -9.81, 0.0), -1e4, 1e4);
   scene.duration = top.number("duration", std::nullopt, 0.0, 1e5, true);
   scene.sample_interval = top.number("sample_interval", 0.05, 0.0, 1e5, true);
@@ -389,6 +410,11 @@ Scene scene_from_json(const json& document, const std::string& file) {
   shape.rows = scene.weave.type == WeaveType::chain ? 1 : scene.weave.rows;
   shape.cols = scene.weave.cols;
   resolve_pins(scene, shape);
+  for (size_t k = 0; k < scene.loads.size(); ++k) {
+    if (shape.ring_at_row_col(scene.loads[k].row, scene.loads[k].col) < 0) {
+      throw SceneError(file + ": key 'loads[" + std::to_string(k) + "].ring': ring does not exist");
+    }
+  }
   scene.resolved = resolved;
   return scene;
 }

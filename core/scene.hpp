@@ -66,6 +66,12 @@ struct Camera {
   double fov_deg = 40.0;
 };
 
+// extra mass on one ring (a weight hanging from the fabric)
+struct Load {
+  int row = 0, col = 0;
+  double mass_factor = 1.0;  // ring mass multiplier
+};
+
 struct StabilityBounds {
   double max_speed = 20.0;           // m/s; any ring faster is unstable
   bool links_must_hold = true;       // a torn link (stretched past max_stretch) is an instability
@@ -84,6 +90,8 @@ struct Scene {
   std::vector<PinSpec> pins;
   std::vector<Collider> colliders;
   std::optional<Support> support;
+  std::vector<Load> loads;
+  Vec3 initial_velocity = Vec3::Zero();  // m/s, of every free ring at t = 0
   Vec3 gravity = Vec3(0.0, -9.81, 0.0);  // m/s^2
   double duration = 1.0;                 // s
   double sample_interval = 0.05;         // s between metric samples

@@ -127,6 +127,15 @@ Weave make_weave(const WeaveSpec& spec, const RingGeometry& ring) {
   return weave;
 }
 
+std::vector<double> ring_masses(const Scene& scene, const Weave& weave) {
+  std::vector<double> mass(weave.size(), scene.ring.mass());
+  for (const Load& load : scene.loads) {
+    const int ring = weave.ring_at_row_col(load.row, load.col);
+    if (ring >= 0) mass[ring] *= load.mass_factor;
+  }
+  return mass;
+}
+
 std::vector<int> resolve_pins(const Scene& scene, const Weave& weave) {
   std::vector<int> pinned;
   for (size_t p = 0; p < scene.pins.size(); ++p) {

@@ -41,5 +41,7 @@ inline constexpr double kChainMinAspectRatio = 2.0;
 Weave make_weave(const WeaveSpec& spec, const RingGeometry& ring);
 // ring indices pinned by the scene (sorted, unique); throws SceneError for rings that do not exist
 std::vector<int> resolve_pins(const Scene& scene, const Weave& weave);
+// mass of every ring: the ring mass times any load's factor, kg
+std::vector<double> ring_masses(const Scene& scene, const Weave& weave);
 
 }  // namespace chainmail

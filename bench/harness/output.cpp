@@ -79,6 +79,7 @@ nlohmann::json summary_json(const SceneRun& run) {
     }
     final_metrics["non_finite"] = m.non_finite;
     entry["final"] = final_metrics;
+    if (b.catenary_error) entry["catenary_error"] = *b.catenary_error;
     nlohmann::json knobs = nlohmann::json::object();
     for (const auto& [k, v] : b.knobs) knobs[k] = v;
     entry["knobs"] = knobs;

@@ -1,5 +1,7 @@
 #include "bench/harness/run.hpp"
 
+#include "bench/harness/suites.hpp"
+
 #include <unistd.h>
 
 #include <chrono>
@@ -19,10 +21,10 @@ double seconds_since(Clock::time_point start) {
 }
 
 // total mechanical energy relative to the origin: kinetic + potential in the scene's gravity
-double mechanical_energy(const RingFrame& frame, const Metrics& metrics, const Scene& scene) {
-  const double mass = scene.ring.mass();
+double mechanical_energy(const RingFrame& frame, const Metrics& metrics, const Scene& scene,
+                         const std::vector<double>& mass) {
   double potential = 0.0;
-  for (int i = 0; i < frame.size(); ++i) potential -= mass * scene.gravity.dot(frame.position.col(i));
+  for (int i = 0; i < frame.size(); ++i) potential -= mass[i] * scene.gravity.dot(frame.position.col(i));
   return metrics.kinetic_energy + potential;
 }
 
@@ -30,7 +32,10 @@ double mechanical_energy(const RingFrame& frame, const Metrics& metrics, const S
 double energy_scale(const Scene& scene, const Weave& weave) {
   const Vec3 extent = weave.rest_position.rowwise().maxCoeff() - weave.rest_position.rowwise().minCoeff();
   const double size = std::max(extent.norm(), scene.ring.centre_radius);
-  return weave.size() * scene.ring.mass() * std::max(scene.gravity.norm(), 1.0) * size;
+  double total = 0.0;
+  for (double m : ring_masses(scene, weave)) total += m;
+  const double speed = scene.initial_velocity.norm();
+  return total * (std::max(scene.gravity.norm(), 1.0) * size + 0.5 * speed * speed);
 }
 
 std::string hex(std::uint64_t value) {
@@ -87,6 +92,7 @@ BackendRun run_backend(const Scene& scene, const Weave& weave, const std::string
   MetricOptions metric_options;
   metric_options.other_pairs = options.other_pair_metrics;
   const double scale = energy_scale(scene, weave);
+  const std::vector<double> masses = ring_masses(scene, weave);
 
   RingFrame frame;
   double energy_start = 0.0;
@@ -119,7 +125,7 @@ BackendRun run_backend(const Scene& scene, const Weave& weave, const std::string
       // derived, so its rings can look unlinked while the model holds them together.)
       run.stable = false, run.verdict = "torn_links";
     } else {
-      const double energy = mechanical_energy(frame, m, scene);
+      const double energy = mechanical_energy(frame, m, scene, masses);
       if (step == 0) energy_start = energy;
       if (energy - energy_start > (scene.stability.energy_growth - 1.0) * scale) {
         run.stable = false, run.verdict = "energy_growth";
@@ -272,6 +278,8 @@ SceneRun run_scene(const Scene& scene, const RunOptions& options) {
   for (const auto& name : names) {
     if (options.progress) std::fprintf(stderr, "%s: %s\n", scene.name.c_str(), name.c_str());
     result.runs.push_back(run_backend(scene, result.weave, name, options));
+    BackendRun& run = result.runs.back();
+    if (run.stable) run.catenary_error = catenary_error(scene, result.weave, run.final_frame);
   }
 
   // drape_rms: every sample against the reference frame nearest in time

@@ -43,6 +43,7 @@ struct BackendRun {
   std::vector<RingFrame> frames;   // one per sample when keep_frames
   RingFrame final_frame;
   std::map<std::string, StageStats> stages;
+  std::optional<double> catenary_error;  // chains pinned at both ends: sag against the catenary
 
   double ms_per_step() const { return steps ? 1e3 * wall_s / steps : 0.0; }
   // simulated seconds per wall second
