@@ -40,6 +40,7 @@ TEST(Run, BackendsReceiveIdenticalRestLayouts) {
   const Scene scene = small_curtain();
   const Weave weave = make_weave(scene.weave, scene.ring);
   std::vector<RingFrame> first;
+  std::vector<std::string> names;
   for (const BackendInfo& info : backend_registry()) {
     std::unique_ptr<Backend> backend;
     try {
@@ -51,11 +52,13 @@ TEST(Run, BackendsReceiveIdenticalRestLayouts) {
     RingFrame frame;
     backend->frame(frame);
     first.push_back(frame);
+    names.push_back(info.name);
   }
   ASSERT_GE(first.size(), 1u);
-  for (const RingFrame& f : first) {
-    EXPECT_EQ(f.position, weave.rest_position);
-    EXPECT_DOUBLE_EQ(f.t, 0.0);
+  for (size_t k = 0; k < first.size(); ++k) {
+    // rigid backends scale lengths internally: equal up to the round trip through that unit
+    EXPECT_LT((first[k].position - weave.rest_position).cwiseAbs().maxCoeff(), 1e-12) << names[k];
+    EXPECT_DOUBLE_EQ(first[k].t, 0.0);
   }
 }
 

@@ -1,0 +1,138 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "bench/harness/commands.hpp"
+#include "bench/harness/run.hpp"
+#include "bench/harness/suites.hpp"
+
+namespace chainmail {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+int count_lines(const fs::path& path) {
+  std::ifstream in(path);
+  int lines = 0;
+  for (std::string line; std::getline(in, line);) lines += !line.empty();
+  return lines;
+}
+
+std::string chainmail_binary() { return CHAINMAIL_BINARY_DIR "/bench/chainmail"; }
+
+TEST(Stages, WhatASceneLeavesOutNeverRuns) {
+  // no colliders -> no collision stage; no self-contact -> no spatial hash
+  json doc = {{"name", "bare"},
+              {"weave", {{"type", "4in1"}, {"rows", 4}, {"cols", 4}, {"plane", "xy"}}},
+              {"pins", json::array({{{"edge", "top"}}})},
+              {"features", {{"self_contact", false}}},
+              {"duration", 0.05},
+              {"reference", "plausible"},
+              {"backends", {{"plausible", json::object()}}}};
+  RunOptions options;
+  options.progress = false;
+  const SceneRun bare = run_scene(scene_from_json(doc, "test"), options);
+  const auto& stages = bare.runs[0].stages;
+  EXPECT_EQ(stages.count("collide"), 0u);
+  EXPECT_EQ(stages.count("self_contact"), 0u);
+  EXPECT_GT(stages.at("constraints").calls, 0);
+  EXPECT_FALSE(bare.runs[0].final_metrics().drape_coefficient.has_value());
+
+  // the same scene with a floor, self-contact and a support: the stages and the metric appear
+  doc["features"]["self_contact"] = true;
+  doc["colliders"] = json::array({{{"type", "plane"}, {"point", {0, -1, 0}}}});
+  doc["support"] = {{"center", {0, -1, 0}}, {"radius", 0.01}};
+  const SceneRun full = run_scene(scene_from_json(doc, "test"), options);
+  EXPECT_GT(full.runs[0].stages.at("collide").calls, 0);
+  EXPECT_GT(full.runs[0].stages.at("self_contact").calls, 0);
+  EXPECT_TRUE(full.runs[0].final_metrics().drape_coefficient.has_value());
+}
+
+TEST(Catenary, ErrorOfTheExactCatenaryIsZero) {
+  const Scene scene = load_scene_file(CHAINMAIL_SOURCE_DIR "/bench/scenes/chain_catenary.json");
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  RingFrame frame;
+  frame.resize(weave.size());
+  frame.position = weave.rest_position;
+  // the straight rest chain has no sag: error 1 (100 %)
+  ASSERT_TRUE(catenary_error(scene, weave, frame).has_value());
+  EXPECT_NEAR(*catenary_error(scene, weave, frame), 1.0, 1e-12);
+  // a sheet is not a chain: no catenary error
+  const Scene curtain = load_scene_file(CHAINMAIL_SOURCE_DIR "/bench/scenes/curtain.json");
+  const Weave sheet = make_weave(curtain.weave, curtain.ring);
+  RingFrame flat;
+  flat.position = sheet.rest_position;
+  EXPECT_FALSE(catenary_error(curtain, sheet, flat).has_value());
+}
+
+TEST(Sweep, OneRowPerPointAndThePlot) {
+  const fs::path out = fs::temp_directory_path() / "chainmail_test_sweep";
+  fs::remove_all(out);
+  SweepCommand sweep;
+  sweep.scene_file = CHAINMAIL_SOURCE_DIR "/bench/scenes/curtain.json";
+  sweep.overrides = {"weave.rows=4", "weave.cols=4", "duration=0.04", "reference=plausible"};
+  sweep.vary = {"backends.{backend}.dt=0.004,0.002", "backends.{backend}.iterations=2,8"};
+  sweep.backends = {"plausible"};
+  sweep.out_dir = out.string();
+  sweep.jobs = 2;
+  sweep.executable = chainmail_binary();
+  sweep.progress = false;
+  sweep.cache_dir = (out / "cache").string();
+  ASSERT_EQ(sweep_command(sweep), kExitOk);
+  EXPECT_EQ(count_lines(out / "sweep.csv"), 1 + 4);  // header + 2 x 2 points
+  std::ifstream csv(out / "sweep.csv");
+  std::string header, row;
+  std::getline(csv, header);
+  EXPECT_NE(header.find("wall_per_sim_s"), std::string::npos);
+  while (std::getline(csv, row)) EXPECT_NE(row.find(",true,stable"), std::string::npos) << row;
+  if (!plotting_python().empty()) {
+    EXPECT_TRUE(fs::exists(out / "sweep.png"));
+    EXPECT_GT(fs::file_size(out / "sweep.png"), 1000u);
+  }
+  fs::remove_all(out);
+}
+
+TEST(Sweep, PrintJobsListsEveryPoint) {
+  SweepCommand sweep;
+  sweep.scene_file = CHAINMAIL_SOURCE_DIR "/bench/scenes/curtain.json";
+  sweep.vary = {"backends.{backend}.dt=0.004,0.002,0.001"};
+  sweep.backends = {"plausible"};
+  sweep.print_jobs = true;
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(sweep_command(sweep), kExitOk);
+  const std::string printed = testing::internal::GetCapturedStdout();
+  int lines = 0;
+  for (char ch : printed) lines += ch == '\n';
+  EXPECT_EQ(lines, 3);
+  EXPECT_NE(printed.find("--set 'backends.plausible.dt=0.001'"), std::string::npos) << printed;
+  // a bad knob value is bad input before anything runs
+  sweep.vary = {"backends.{backend}.dt=-1"};
+  EXPECT_THROW(sweep_command(sweep), SceneError);
+}
+
+TEST(Bench, QuickModeWritesEveryResultsFile) {
+  const fs::path out = fs::temp_directory_path() / "chainmail_test_bench";
+  fs::remove_all(out);
+  BenchCommand bench;
+  bench.out_dir = out.string();
+  bench.quick = true;
+  bench.backends = {"plausible"};
+  bench.executable = chainmail_binary();
+  bench.render = false;
+  bench.progress = false;
+  ASSERT_EQ(bench_command(bench), kExitOk);
+  for (const char* file : {"README.md", "timing.md", "timing.csv", "metrics.md", "sweep/sweep.csv",
+                           "stability/stability.md", "stability/stability.csv",
+                           "curtain/summary.json", "table_cloth/metrics.csv",
+                           "chain_catenary/table.md", "chain_pile/summary.json",
+                           "sphere_drape/summary.json"}) {
+    EXPECT_TRUE(fs::exists(out / file)) << file;
+  }
+  EXPECT_EQ(count_lines(out / "timing.csv"), 1 + 5);  // five scenes, one backend
+  fs::remove_all(out);
+}
+
+}  // namespace
+}  // namespace chainmail
