@@ -238,7 +238,7 @@ json sheet_scene(const std::string& name, int size, bool hanging) {
   json scene = {{"name", name},
                 {"weave", {{"type", "4in1"}, {"rows", size}, {"cols", size},
                            {"plane", hanging ? "xy" : "xz"}, {"center", {0, 0.1, 0}}}},
-                {"duration", 0.5},
+                {"duration", 0.3},
                 {"sample_interval", 0.05},
                 {"features", {{"self_contact", true}}}};
   if (hanging) scene["pins"] = json::array({{{"edge", "top"}}});
@@ -246,7 +246,7 @@ json sheet_scene(const std::string& name, int size, bool hanging) {
 }
 
 std::vector<StabilityCase> stability_cases(bool quick) {
-  const int size = quick ? 4 : 8;
+  const int size = quick ? 4 : 6;
   std::vector<StabilityCase> cases;
   {
     json s = sheet_scene("heavy_weight", size, true);
@@ -335,7 +335,7 @@ DtSearch largest_stable_dt(const Scene& scene, const Weave& weave, const std::st
     hi = dt0, lo = dt0 / 16.0;
     if (!stable_at(lo)) return {lo, "<"};
   }
-  for (int it = 0; it < 5; ++it) {
+  for (int it = 0; it < 3; ++it) {
     const double mid = std::sqrt(lo * hi);
     (stable_at(mid) ? lo : hi) = mid;
   }
@@ -357,7 +357,7 @@ int stability_command(const StabilityCommand& command) {
   csv << "case,backend,dt,verdict,largest_stable_dt,bound,max_stretch,broken_links,"
          "penetrating_linked,false_links,max_speed,ms_per_step\n";
   md << "# Stability suite\n\nEach case runs every backend at its default knobs (the verdict), then "
-        "bisects for the largest stable dt (log-space, 5 steps; `>=` = stable at the top of the "
+        "bisects for the largest stable dt (log-space, 3 steps; `>=` = stable at the top of the "
         "searched range, `<` = unstable at the bottom).\n\n"
         "| case | backend | dt (s) | verdict | largest stable dt (s) | max_stretch | broken_links | "
         "penetrating_linked | max_speed (m/s) |\n|---|---|---|---|---|---|---|---|---|\n";
@@ -419,14 +419,16 @@ int bench_command(const BenchCommand& command) {
   };
   const std::string scenes = source_dir() + "/bench/scenes/";
   const std::vector<BenchScene> set = {
-      {"curtain.json", {"weave.rows=16", "weave.cols=16", "duration=1.5"},
+      {"curtain.json", {"weave.rows=10", "weave.cols=10", "duration=1.0"},
        {"weave.rows=4", "weave.cols=4", "duration=0.05"}},
-      {"table_cloth.json", {"weave.rows=16", "weave.cols=16", "duration=1.0"},
+      {"table_cloth.json", {"weave.rows=10", "weave.cols=10", "duration=0.8",
+                            "colliders.0.radius=0.025", "support.radius=0.025"},
        {"weave.rows=4", "weave.cols=4", "duration=0.05"}},
-      {"sphere_drape.json", {"weave.rows=16", "weave.cols=16", "duration=1.0"},
+      {"sphere_drape.json", {"weave.rows=10", "weave.cols=10", "duration=0.8",
+                             "colliders.0.radius=0.03", "colliders.0.center=[0,0.12,0]"},
        {"weave.rows=4", "weave.cols=4", "duration=0.05"}},
-      {"chain_catenary.json", {"duration=2.0"}, {"weave.cols=8", "duration=0.05"}},
-      {"chain_pile.json", {"weave.cols=30"}, {"weave.cols=6", "duration=0.05"}},
+      {"chain_catenary.json", {"weave.cols=30", "duration=2.0"}, {"weave.cols=8", "duration=0.05"}},
+      {"chain_pile.json", {"weave.cols=20", "duration=0.8"}, {"weave.cols=6", "duration=0.05"}},
   };
   const std::string out = command.out_dir;
   const auto started = std::chrono::steady_clock::now();
@@ -508,8 +510,8 @@ int bench_command(const BenchCommand& command) {
   SweepCommand sweep;
   sweep.scene_file = scenes + "curtain.json";
   sweep.overrides = command.quick ? std::vector<std::string>{"weave.rows=4", "weave.cols=4", "duration=0.05"}
-                                  : std::vector<std::string>{"weave.rows=12", "weave.cols=12", "duration=1.0"};
-  sweep.vary = {command.quick ? "backends.{backend}.dt=0.004,0.002" : "backends.{backend}.dt=0.008,0.004,0.002,0.001,0.0005,0.00025"};
+                                  : std::vector<std::string>{"weave.rows=6", "weave.cols=6", "duration=0.5"};
+  sweep.vary = {command.quick ? "backends.{backend}.dt=0.004,0.002" : "backends.{backend}.dt=0.008,0.004,0.002,0.001,0.0005"};
   sweep.backends = command.backends.empty() ? std::vector<std::string>{"all"} : command.backends;
   sweep.out_dir = out + "/sweep";
   sweep.jobs = command.jobs;
@@ -523,7 +525,7 @@ int bench_command(const BenchCommand& command) {
   stability.backends = command.backends;
   stability.out_dir = out + "/stability";
   stability.quick = command.quick;
-  stability.max_wall_seconds = command.quick ? 5.0 : 20.0;
+  stability.max_wall_seconds = command.quick ? 5.0 : 10.0;
   stability.progress = command.progress;
   stability_command(stability);
 

@@ -1,0 +1,261 @@
+// Bullet rigid-torus backend: torus approximation, free fall in both unit systems, linked rings,
+// the catenary of a hanging chain, a hanging curtain and a sheet at rest on a plane.
+#if CHAINMAIL_HAVE_BULLET
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <numbers>
+
+#include "backends/backend.hpp"
+#include "backends/bullet_backend.hpp"
+#include "core/geometry.hpp"
+#include "core/metrics.hpp"
+#include "core/scene.hpp"
+#include "core/weave.hpp"
+
+namespace chainmail {
+namespace {
+
+using nlohmann::json;
+
+// one backend run of a scene given as JSON
+struct BulletRun {
+  Scene scene;
+  Weave weave;
+  Knobs knobs;
+  std::unique_ptr<Backend> backend;
+  RingFrame frame;
+
+  explicit BulletRun(const json& document)
+      : scene(scene_from_json(document, "test")), weave(make_weave(scene.weave, scene.ring)) {
+    const BackendInfo* info = find_backend("bullet");
+    knobs = resolve_knobs(scene, *info);
+    backend = info->create();
+    backend->reset(scene, weave, knobs);
+    backend->frame(frame);
+  }
+  double dt() const { return knobs.at("dt"); }
+  // advance by `seconds` in steps of the dt knob, then read the frame
+  void advance(double seconds) {
+    const long steps = std::lround(seconds / dt());
+    for (long k = 0; k < steps; ++k) backend->step(dt());
+    backend->frame(frame);
+  }
+  Circle circle(int ring) const {
+    return ring_circle(frame.position.col(ring), frame.quat(ring), scene.ring.centre_radius);
+  }
+};
+
+Knobs default_knobs() {
+  const Scene scene = scene_from_json(
+      {{"name", "defaults"}, {"weave", {{"type", "chain"}, {"cols", 2}}}, {"duration", 1.0}},
+      "test");
+  return resolve_knobs(scene, *find_backend("bullet"));
+}
+
+TEST(Bullet, TorusApproximationMatchesSampledPolygon) {
+  // default ring: WD 1.6 mm, ID 8 mm (c / a = 6)
+  const RingGeometry ring = RingGeometry::from_diameters(0.0016, 0.008, 7850.0);
+  const double a = ring.wire_radius, c = ring.centre_radius;
+  const int pieces = static_cast<int>(default_knobs().at("pieces"));
+
+  for (int n : {pieces, 7, 12}) {
+    const CapsuleTorus fit = capsule_torus(a, c, n);
+    // sample the polygon's sides: distance to the centre circle, and its radial extent per angle
+    double deviation = 0.0;
+    constexpr int kAngles = 3600;
+    std::vector<double> radius(kAngles, 0.0);  // polygon radius by direction (binned), m
+    for (int piece = 0; piece < n; ++piece) {
+      const double s0 = 2.0 * std::numbers::pi * piece / n;
+      const double s1 = 2.0 * std::numbers::pi * (piece + 1) / n;
+      const Eigen::Vector2d v0 = fit.vertex_radius * Eigen::Vector2d(std::cos(s0), std::sin(s0));
+      const Eigen::Vector2d v1 = fit.vertex_radius * Eigen::Vector2d(std::cos(s1), std::sin(s1));
+      EXPECT_NEAR((v1 - v0).norm(), fit.capsule_length, 1e-12);
+      for (int k = 0; k <= 2000; ++k) {
+        const Eigen::Vector2d p = v0 + (v1 - v0) * (k / 2000.0);
+        deviation = std::max(deviation, std::abs(p.norm() - c));
+        double angle = std::atan2(p.y(), p.x());
+        if (angle < 0) angle += 2.0 * std::numbers::pi;
+        const int bin =
+            std::min(kAngles - 1, static_cast<int>(angle / (2.0 * std::numbers::pi) * kAngles));
+        radius[bin] = std::max(radius[bin], p.norm());
+      }
+    }
+    EXPECT_NEAR(fit.surface_error, deviation, 1e-7 * c) << n << " pieces";
+    // the balanced polygon errs equally outside (vertices) and inside (chord midpoints)
+    EXPECT_NEAR(fit.vertex_radius - c, c - fit.midpoint_radius, 1e-12);
+
+    // inner diameter through the centre: opposite sides less the wire
+    double id_min = 1e9, id_max = 0.0;
+    for (int bin = 0; bin < kAngles / 2; ++bin) {
+      const double across = radius[bin] + radius[bin + kAngles / 2] - 2.0 * a;
+      id_min = std::min(id_min, across), id_max = std::max(id_max, across);
+    }
+    EXPECT_NEAR(fit.inner_diameter_min, id_min, 5e-4 * c) << n << " pieces";
+    EXPECT_NEAR(fit.inner_diameter_max, id_max, 5e-4 * c) << n << " pieces";
+  }
+
+  // the default count keeps the surface within 2 % of the wire radius; fewer pieces would not
+  EXPECT_LT(capsule_torus(a, c, pieces).surface_error, 0.02 * a);
+  EXPECT_GT(capsule_torus(a, c, pieces - 2).surface_error, 0.02 * a);
+}
+
+json single_ring_scene(const json& bullet_knobs) {
+  return {{"name", "free_fall"},
+          {"weave", {{"type", "4in1"}, {"rows", 1}, {"cols", 1}, {"center", {0.1, 2.0, -0.2}}}},
+          {"duration", 1.0},
+          {"backends", {{"bullet", bullet_knobs}}}};
+}
+
+TEST(Bullet, FreeFallMatchesHalfGTSquared) {
+  BulletRun run(single_ring_scene({{"linear_damping", 0.0}, {"angular_damping", 0.0}}));
+  const Vec3 start = run.frame.position.col(0);
+  const Quat rest = run.frame.quat(0);
+  const double t = 0.5, g = 9.81;
+  run.advance(t);
+  ASSERT_NEAR(run.frame.t, t, 1e-12);
+
+  // semi-implicit Euler lags the parabola by g t h / 2 with the internal step h
+  const double h = run.dt() / run.knobs.at("substeps");
+  const double drop = start.y() - run.frame.position(1, 0);
+  EXPECT_NEAR(drop, 0.5 * g * t * t, g * t * h + 1e-5);
+  EXPECT_NEAR(run.frame.velocity(1, 0), -g * t, 1e-4 * g * t);
+  EXPECT_NEAR(run.frame.position(0, 0), start.x(), 1e-6);
+  EXPECT_NEAR(run.frame.position(2, 0), start.z(), 1e-6);
+  EXPECT_LT(run.frame.quat(0).angularDistance(rest), 1e-5);  // no torque, no spin
+}
+
+TEST(Bullet, FreeFallIsTheSameInSiAndScaledUnits) {
+  BulletRun scaled(single_ring_scene({{"linear_damping", 0.0}, {"angular_damping", 0.0}}));
+  BulletRun si(single_ring_scene(
+      {{"linear_damping", 0.0}, {"angular_damping", 0.0}, {"length_scale", 1.0}}));
+  ASSERT_NE(scaled.knobs.at("length_scale"), 1.0);
+  scaled.advance(0.3);
+  si.advance(0.3);
+  const double drop = scaled.frame.position(1, 0) - 2.0;
+  EXPECT_LT((scaled.frame.position - si.frame.position).norm(), 1e-5 * std::abs(drop));
+  EXPECT_LT((scaled.frame.velocity - si.frame.velocity).norm(), 1e-5 * 9.81 * 0.3);
+  EXPECT_LT((scaled.frame.orientation - si.frame.orientation).norm(), 1e-6);
+}
+
+TEST(Bullet, TwoLinkedRingsHangWithoutParting) {
+  BulletRun run({{"name", "two_rings"},
+                 {"weave", {{"type", "chain"}, {"cols", 2}}},
+                 {"pins", {{{"ring", {0, 0}}}}},
+                 {"duration", 5.0}});
+  const double a = run.scene.ring.wire_radius, id = run.scene.ring.inner_diameter();
+  const Vec3 pinned = run.frame.position.col(0);
+  double closest = 1e9, farthest = 0.0;
+  for (int second = 0; second < 50; ++second) {  // 5 s in 0.1 s samples
+    run.advance(0.1);
+    ASSERT_TRUE(circles_linked(run.circle(0), run.circle(1))) << "t = " << run.frame.t;
+    closest = std::min(closest, circle_circle_distance(run.circle(0), run.circle(1)));
+    farthest = std::max(farthest, (run.frame.position.col(1) - run.frame.position.col(0)).norm());
+  }
+  EXPECT_GE(closest, 2.0 * a - 0.05 * a);
+  EXPECT_LE(farthest / id, 1.02);
+  EXPECT_EQ((run.frame.position.col(0) - pinned).norm(), 0.0);  // the pin holds exactly
+  EXPECT_LT(run.frame.position(1, 1), pinned.y());              // the free ring hangs below
+}
+
+TEST(Bullet, SameSceneGivesBitIdenticalFrames) {
+  const json scene = {{"name", "repeat"},
+                      {"weave", {{"type", "4in1"}, {"rows", 3}, {"cols", 3}, {"plane", "xy"}}},
+                      {"pins", {{{"edge", "top"}}}},
+                      {"duration", 1.0}};
+  BulletRun first(scene), second(scene);
+  first.advance(0.2);
+  second.advance(0.2);
+  EXPECT_EQ(frame_hash(first.frame), frame_hash(second.frame));
+}
+
+TEST(Bullet, ChainSagMatchesCatenary) {
+  // a horizontal chain pinned at both end rings, span 0.75 of its length; heavy damping only
+  // shortens settling, the equilibrium does not depend on it
+  constexpr int kRings = 60;
+  BulletRun run(
+      {{"name", "chain_catenary"},
+       {"weave", {{"type", "chain"}, {"cols", kRings}, {"plane", "xy"}, {"spacing", 0.75}}},
+       {"pins", {{{"ring", {0, 0}}}, {{"ring", {0, kRings - 1}}}}},
+       {"duration", 4.0},
+       {"backends", {{"bullet", {{"linear_damping", 0.95}, {"angular_damping", 0.95}}}}}});
+  run.advance(4.0);
+
+  // catenary through the pinned ring centres with the chain's length (n - 1) ID
+  const double span = (run.frame.position.col(kRings - 1) - run.frame.position.col(0)).norm();
+  const double length = (kRings - 1) * run.scene.ring.inner_diameter();
+  // solve L = 2 A sinh(S / 2A) for A by bisection (the left side falls as A grows)
+  double low = 1e-4 * span, high = 1e4 * span;
+  for (int k = 0; k < 200; ++k) {
+    const double mid = 0.5 * (low + high);
+    (2.0 * mid * std::sinh(span / (2.0 * mid)) > length ? low : high) = mid;
+  }
+  const double A = 0.5 * (low + high);
+  const double expected_sag = A * (std::cosh(span / (2.0 * A)) - 1.0);
+
+  double lowest = 1e9;
+  for (int ring = 0; ring < kRings; ++ring) lowest = std::min(lowest, run.frame.position(1, ring));
+  const double sag = run.frame.position(1, 0) - lowest;
+  RecordProperty("sag_error_percent", std::to_string(100.0 * (sag / expected_sag - 1.0)));
+  std::printf("catenary: sag %.5f m, expected %.5f m, error %+.2f %%\n", sag, expected_sag,
+              100.0 * (sag / expected_sag - 1.0));
+  EXPECT_NEAR(sag, expected_sag, 0.03 * expected_sag);
+
+  const Metrics m = measure(run.frame, run.weave, run.scene);
+  EXPECT_EQ(m.broken_links, 0);
+  EXPECT_EQ(m.non_finite, 0);
+}
+
+TEST(Bullet, CurtainHangsWithoutBrokenOrFalseLinks) {
+  // one internal step per millisecond keeps this test short; the links hold at that step too
+  BulletRun run({{"name", "curtain"},
+                 {"weave", {{"type", "4in1"}, {"rows", 10}, {"cols", 10}, {"plane", "xy"}}},
+                 {"pins", {{{"edge", "top"}}}},
+                 {"duration", 2.0},
+                 {"backends", {{"bullet", {{"substeps", 1}}}}}});
+  for (int k = 0; k < 4; ++k) {
+    run.advance(0.5);
+    const Metrics m = measure(run.frame, run.weave, run.scene);
+    EXPECT_EQ(m.broken_links, 0) << "t = " << run.frame.t;
+    EXPECT_EQ(m.false_links, 0) << "t = " << run.frame.t;
+    EXPECT_EQ(m.non_finite, 0);
+    EXPECT_LT(m.max_stretch, 1.02);
+  }
+  EXPECT_NEAR(run.frame.t, 2.0, 1e-9);
+}
+
+TEST(Bullet, SheetRestsOnPlaneWithoutJitter) {
+  // a flat 4-in-1 sheet dropped from just above a floor
+  BulletRun run(
+      {{"name", "sheet_on_floor"},
+       {"weave", {{"type", "4in1"}, {"rows", 5}, {"cols", 5}, {"center", {0.0, 0.005, 0.0}}}},
+       {"colliders", {{{"type", "plane"}, {"point", {0.0, 0.0, 0.0}}, {"friction", 0.5}}}},
+       {"duration", 1.0}});
+  const RingGeometry& ring = run.scene.ring;
+  run.advance(0.5);
+  // settled: the kinetic energy stays below that of one ring moving at 1 mm/s, per ring
+  const double bound = run.weave.size() * 0.5 * ring.mass() * 1e-6;
+  double highest = 0.0;
+  for (int k = 0; k < 10; ++k) {
+    run.advance(0.05);
+    const Metrics m = measure(run.frame, run.weave, run.scene);
+    highest = std::max(highest, m.kinetic_energy);
+    ASSERT_EQ(m.non_finite, 0);
+    for (int r = 0; r < run.weave.size(); ++r) {
+      ASSERT_GT(run.frame.position(1, r), 0.0) << "ring " << r << " fell through the floor";
+    }
+  }
+  std::printf("sheet on floor: highest kinetic energy %.3g J, bound %.3g J\n", highest, bound);
+  EXPECT_LT(highest, bound);
+  EXPECT_EQ(measure(run.frame, run.weave, run.scene).broken_links, 0);
+}
+
+}  // namespace
+}  // namespace chainmail
+
+#endif  // CHAINMAIL_HAVE_BULLET
