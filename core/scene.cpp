@@ -399,6 +399,7 @@ Scene scene_from_json(const json& document, const std::string& file) {
     r.finish();
   }
   scene.reference = top.string("reference", "bullet");
+  scene.reference_dt = top.number("reference_dt", 0.0, 0.0, 1.0);
   if (const json* backends = top.child("backends", false)) {
     scene.backends = *backends;
   }

@@ -100,6 +100,7 @@ struct Scene {
   Camera camera;
   StabilityBounds stability;
   std::string reference = "bullet";  // backend whose run drape_rms is measured against
+  double reference_dt = 0.0;         // s, the reference run's dt; 0 = that backend's dt here
 
   nlohmann::json backends = nlohmann::json::object();  // per-backend knobs, validated by backends/
   nlohmann::json resolved;                             // the whole scene with defaults filled in

@@ -178,6 +178,7 @@ std::string scene_content_hash(const Scene& scene, const std::string& backend) {
   key.erase("output");
   key.erase("camera");
   key.erase("description");
+  key.erase("reference_dt");
   const BackendInfo* info = find_backend(backend);
   nlohmann::json knobs = nlohmann::json::object();
   if (info) {
@@ -245,10 +246,18 @@ const RingFrame& nearest(const std::vector<RingFrame>& frames, double t) {
 
 std::vector<RingFrame> reference_frames(const Scene& scene, const Weave& weave,
                                         const RunOptions& options, const SceneRun* already) {
-  // a run of the reference backend in this very invocation is the reference
+  // the reference run: the reference backend at reference_dt (default: its dt in this scene)
+  Scene reference_scene = scene;
+  if (scene.reference_dt > 0.0) {
+    nlohmann::json doc = scene.resolved;
+    doc["backends"][scene.reference]["dt"] = scene.reference_dt;
+    reference_scene = scene_from_json(doc, scene.file);
+  }
+  const double dt = resolve_knobs(reference_scene, *find_backend(scene.reference)).at("dt");
+  // a run of the same backend at the same dt in this very invocation is the reference
   if (already) {
     for (const auto& run : already->runs) {
-      if (run.name == scene.reference && !run.frames.empty()) {
+      if (run.name == scene.reference && run.dt == dt && !run.frames.empty()) {
         return run.stable ? run.frames : std::vector<RingFrame>{};
       }
     }
@@ -256,14 +265,14 @@ std::vector<RingFrame> reference_frames(const Scene& scene, const Weave& weave,
   const std::string path = options.cache_dir.empty()
                                ? ""
                                : options.cache_dir + "/" + scene.name + "-" + scene.reference +
-                                     "-" + scene_content_hash(scene, scene.reference) + ".bin";
+                                     "-" + scene_content_hash(reference_scene, scene.reference) + ".bin";
   std::vector<RingFrame> frames;
   if (!path.empty() && load_cached(path, frames, weave.size())) return frames;
   RunOptions quiet = options;
   quiet.keep_frames = true;
   quiet.other_pair_metrics = false;
   if (options.progress) std::fprintf(stderr, "  reference run: %s\n", scene.reference.c_str());
-  BackendRun run = run_backend(scene, weave, scene.reference, quiet);
+  BackendRun run = run_backend(reference_scene, weave, scene.reference, quiet);
   if (!run.stable) return {};
   if (!path.empty()) store_cached(path, run.frames);
   return run.frames;

@@ -170,6 +170,12 @@ int sweep_command(const SweepCommand& command) {
     return kExitOk;
   }
 
+  // every point is measured against the base scene's reference run, whatever the point's knobs
+  const double reference_dt =
+      base.reference_dt > 0.0 ? base.reference_dt
+                              : resolve_knobs(base, *find_backend(base.reference)).at("dt");
+  for (auto& p : points) p.sets.push_back("reference_dt=" + csv_number(reference_dt));
+
   // the reference run once, before the points share it through the cache
   RunOptions reference_options;
   reference_options.progress = command.progress;
