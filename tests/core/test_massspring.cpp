@@ -1,0 +1,507 @@
+// Mass-spring cloth model: springs, Verlet, the over-extension correction, contact, self-collision.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <set>
+#include <string>
+#include <unordered_set>
+
+#include "core/massspring.hpp"
+#include "core/scene.hpp"
+#include "core/spatial_hash.hpp"
+#include "core/weave.hpp"
+
+namespace chainmail::massspring {
+namespace {
+
+const std::string kClothDir = std::string(CHAINMAIL_SOURCE_DIR) + "/bench/scenes/cloth/";
+constexpr double kDt = 1.0 / 2700.0;
+
+// a cloth scene document: rows x cols masses, level in the x/z plane at height 1 m
+nlohmann::json grid_document(int rows, int cols, double spacing) {
+  return {{"name", "test"},
+          {"weave",
+           {{"type", "grid"},
+            {"rows", rows},
+            {"cols", cols},
+            {"plane", "xz"},
+            {"center", {0.0, 1.0, 0.0}},
+            {"spacing", spacing}}},
+          {"duration", 1.0}};
+}
+
+// the model settings a cloth scene file asks for under backends.massspring
+Settings settings_of(const Scene& scene) {
+  const auto& k = scene.backends.at("massspring");
+  Settings s;
+  s.ks = k.value("ks", s.ks);
+  s.shear_ks = k.value("shear_ks", s.shear_ks);
+  s.bend_ks = k.value("bend_ks", s.bend_ks);
+  s.damping_percent = k.value("damping_percent", s.damping_percent);
+  s.correction_passes = k.value("correction_passes", s.correction_passes);
+  s.max_extension = k.value("max_extension", s.max_extension);
+  s.thickness = k.value("thickness", s.thickness);
+  s.areal_density = k.value("areal_density", s.areal_density);
+  s.self_collision = scene.self_contact;
+  return s;
+}
+
+struct Sim {
+  Scene scene;
+  Weave weave;
+  Model model;
+  State state;
+  StageProfile profile;
+
+  Sim(const Scene& s, const Settings& settings)
+      : scene(s),
+        weave(make_weave(s.weave, s.ring)),
+        model(make_model(scene, weave, settings)),
+        state(make_state(model, weave.rest_position)) {}
+  void run(int steps, double dt = kDt) {
+    for (int k = 0; k < steps; ++k) step(model, state, dt, profile);
+  }
+  double kinetic_energy() const {
+    double e = 0.0;
+    for (int m = 0; m < model.size(); ++m)
+      e += 0.5 * model.mass[m] * state.velocity(m).squaredNorm();
+    return e;
+  }
+  double max_stretch() const {
+    double worst = 0.0;
+    for (const Spring& s : model.springs) {
+      worst = std::max(worst, (state.position.col(s.b) - state.position.col(s.a)).norm() / s.rest);
+    }
+    return worst;
+  }
+};
+
+Scene cloth_scene(const std::string& file) {
+  return load_scene_file(kClothDir + file);
+}
+
+// smallest distance between any two masses (pairs within `radius` only; radius if none)
+double min_pair_distance(const Positions& x, double radius) {
+  SpatialHash hash;
+  hash.build(x, radius);
+  double closest = radius;
+  hash.for_each_pair(
+      x, radius, [&](int i, int j) { closest = std::min(closest, (x.col(i) - x.col(j)).norm()); });
+  return closest;
+}
+
+// --- springs -------------------------------------------------------------------------------------
+
+TEST(MassSpring, HookeForceFollowsHookesLaw) {
+  const Vec3 p0(0.0, 0.0, 0.0);
+  // stretched along x by 0.2 of a rest length 1: pulled towards p1 with ks * 0.2
+  Vec3 f = hooke_force(p0, Vec3(1.2, 0.0, 0.0), 1.0, 500.0);
+  EXPECT_NEAR(f.x(), 100.0, 1e-9);
+  EXPECT_NEAR(f.y(), 0.0, 1e-12);
+  // compressed: pushed away
+  f = hooke_force(p0, Vec3(0.0, 0.5, 0.0), 1.0, 500.0);
+  EXPECT_NEAR(f.y(), -250.0, 1e-9);
+  // at rest length, in any direction: no force
+  EXPECT_LT(hooke_force(p0, Vec3(0.6, 0.0, 0.8), 1.0, 500.0).norm(), 1e-12);
+  // along the spring, proportional to the extension
+  const Vec3 p1(0.3, -0.4, 1.2);  // length 1.3
+  f = hooke_force(p0, p1, 1.0, 40.0);
+  EXPECT_NEAR(f.norm(), 40.0 * 0.3, 1e-9);
+  EXPECT_NEAR(f.normalized().dot(p1.normalized()), 1.0, 1e-12);
+}
+
+TEST(MassSpring, SpringsFromGridTopologyWithRestLengths) {
+  const double L0 = 0.1;
+  const Scene scene = scene_from_json(grid_document(5, 6, L0), "test.json");
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  Settings settings;
+  settings.ks = 100.0, settings.shear_ks = 70.0, settings.bend_ks = 20.0;
+  const auto springs = build_springs(weave, weave.rest_position, settings);
+  int count[3] = {0, 0, 0};
+  std::set<std::pair<int, int>> seen;
+  for (const Spring& s : springs) {
+    ++count[static_cast<int>(s.kind)];
+    EXPECT_TRUE(seen.insert({std::min(s.a, s.b), std::max(s.a, s.b)}).second) << "duplicate";
+    const auto gi = weave.grid[s.a], gj = weave.grid[s.b];
+    const int di = std::abs(gi[0] - gj[0]), dj = std::abs(gi[1] - gj[1]);
+    switch (s.kind) {
+      case SpringKind::structural:
+        EXPECT_EQ(di + dj, 1);
+        EXPECT_NEAR(s.rest, L0, 1e-12);
+        EXPECT_EQ(s.k, 100.0);
+        break;
+      case SpringKind::shear:
+        EXPECT_TRUE(di == 1 && dj == 1);
+        EXPECT_NEAR(s.rest, std::sqrt(2.0) * L0, 1e-12);
+        EXPECT_EQ(s.k, 70.0);
+        break;
+      case SpringKind::bending:
+        EXPECT_TRUE((di == 2 && dj == 0) || (di == 0 && dj == 2));
+        EXPECT_NEAR(s.rest, 2.0 * L0, 1e-12);
+        EXPECT_EQ(s.k, 20.0);
+        break;
+    }
+  }
+  // 6 cols x 5 rows: structural 5*5 + 6*4, shear 2*5*4, bending 4*5 + 6*3
+  EXPECT_EQ(count[0], 49);
+  EXPECT_EQ(count[1], 40);
+  EXPECT_EQ(count[2], 38);
+}
+
+TEST(MassSpring, SpringForcePerKindMatchesHooke) {
+  const Scene scene = scene_from_json(grid_document(4, 4, 0.1), "test.json");
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  Settings settings;
+  settings.ks = 300.0, settings.shear_ks = 200.0, settings.bend_ks = 50.0;
+  settings.point_mass = 0.01;
+  const Model full = make_model(scene, weave, settings);
+  for (SpringKind kind : {SpringKind::structural, SpringKind::shear, SpringKind::bending}) {
+    // one spring of this kind alone, no gravity; stretch it by moving its second end
+    Model model = full;
+    model.gravity = Vec3::Zero();
+    const auto it = std::find_if(full.springs.begin(), full.springs.end(),
+                                 [&](const Spring& s) { return s.kind == kind; });
+    ASSERT_NE(it, full.springs.end());
+    model.springs = {*it};
+    Positions x = weave.rest_position;
+    x.col(it->b) += Vec3(0.013, 0.021, -0.007);
+    Positions force(3, model.size());
+    accumulate_forces(model, x, force);
+    const Vec3 d = x.col(it->b) - x.col(it->a);
+    const double k = kind == SpringKind::structural ? 300.0
+                     : kind == SpringKind::shear    ? 200.0
+                                                    : 50.0;
+    const Vec3 expected = k * (d.norm() - it->rest) * d.normalized();
+    EXPECT_LT((Vec3(force.col(it->a)) - expected).norm(), 1e-9 * expected.norm());
+    EXPECT_LT((Vec3(force.col(it->b)) + expected).norm(), 1e-9 * expected.norm());
+    EXPECT_GT(expected.norm(), 0.0);
+  }
+}
+
+TEST(MassSpring, RestLengthsComeFromTheRestLayoutOf4in1) {
+  nlohmann::json doc = grid_document(6, 6, 0.1);
+  doc["weave"] = {{"type", "4in1"}, {"rows", 6}, {"cols", 6}};
+  const Scene scene = scene_from_json(doc, "test.json");
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  const auto springs = build_springs(weave, weave.rest_position, Settings{});
+  int structural = 0;
+  for (const Spring& s : springs) {
+    EXPECT_NEAR(s.rest, (weave.rest_position.col(s.b) - weave.rest_position.col(s.a)).norm(),
+                1e-15);
+    structural += s.kind == SpringKind::structural;
+  }
+  // the structural springs are exactly the weave's links
+  EXPECT_EQ(structural, static_cast<int>(weave.links.size()));
+}
+
+TEST(MassSpring, MassFromArealDensityOrPointMass) {
+  const Scene scene = cloth_scene("plane.json");
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  Settings settings;
+  settings.areal_density = 15.0;
+  // 1 m^2 over 50 x 50 masses
+  EXPECT_NEAR(area_per_mass(weave, weave.rest_position), 1.0 / 2500.0, 1e-15);
+  EXPECT_NEAR(make_model(scene, weave, settings).mass[0], 15.0 / 2500.0, 1e-15);
+  settings.areal_density = 0.0;
+  settings.point_mass = scene.ring.mass();
+  const Model model = make_model(scene, weave, settings);
+  EXPECT_EQ(model.mass[123], scene.ring.mass());
+}
+
+// --- integration ---------------------------------------------------------------------------------
+
+TEST(MassSpring, VerletFreeFallIsGtSquaredOverTwoWithinOrderDt) {
+  for (double dt : {1e-3, 5e-4}) {
+    const Scene scene = scene_from_json(grid_document(1, 1, 0.1), "test.json");
+    Settings settings;
+    settings.point_mass = 0.01;
+    settings.damping_percent = 0.0;
+    Sim sim(scene, settings);
+    const int steps = static_cast<int>(std::lround(0.5 / dt));
+    sim.run(steps, dt);
+    const double t = steps * dt, g = 9.81;
+    const double fallen = 1.0 - sim.state.position(1, 0);
+    // Verlet from rest: x_n = g dt^2 n (n + 1) / 2 = g t^2 / 2 + g t dt / 2
+    EXPECT_NEAR(fallen, 0.5 * g * t * t + 0.5 * g * t * dt, 1e-9);
+    const double error = fallen - 0.5 * g * t * t;
+    EXPECT_GT(error, 0.0);
+    EXPECT_LE(error, 0.5 * g * t * dt * (1.0 + 1e-6));
+    EXPECT_NEAR(sim.state.velocity(0).y(), -g * t, g * dt);
+    EXPECT_EQ(sim.state.position(0, 0), 0.0);
+  }
+}
+
+// --- the over-extension correction ---------------------------------------------------------------
+
+TEST(MassSpring, SinglePassCanLeaveASpringOverExtendedIteratedPassesFixIt) {
+  // the document's case: A (pinned) - B - C; the right spring is over-extended, the left is not;
+  // moving B to fix the right one over-extends the left one
+  const std::vector<Spring> springs = {{0, 1, 1.0, 1.0}, {1, 2, 1.0, 1.0}};
+  Eigen::VectorXd inv_mass(3);
+  inv_mass << 0.0, 1.0, 1.0;
+  Positions start(3, 3);
+  start << 0.0, 1.05, 2.4, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0;
+  auto stretch = [](const Positions& x, int a, int b) { return (x.col(b) - x.col(a)).norm(); };
+
+  Positions x = start;
+  EXPECT_EQ(correct_overextension(springs, inv_mass, 0.1, x), 1);
+  EXPECT_LE(stretch(x, 1, 2), 1.1 + 1e-12);
+  EXPECT_GT(stretch(x, 0, 1), 1.1 + 1e-3);  // left spring now over-extended
+  EXPECT_EQ(x(0, 0), 0.0);                  // pinned end did not move
+
+  x = start;
+  int passes = 0;
+  while (correct_overextension(springs, inv_mass, 0.1, x) > 0 && passes < 200) ++passes;
+  EXPECT_LT(passes, 200);
+  EXPECT_LE(stretch(x, 0, 1), 1.1 * (1.0 + 1e-12));
+  EXPECT_LE(stretch(x, 1, 2), 1.1 * (1.0 + 1e-12));
+  EXPECT_EQ(x(0, 0), 0.0);
+}
+
+TEST(MassSpring, EnoughCorrectionPassesKeepEverySpringWithinTenPercent) {
+  // a soft heavy cloth hanging from two corners stretches far past 10 % without the correction
+  nlohmann::json doc = grid_document(8, 8, 0.05);
+  doc["pins"] = {{{"corner", "top_left"}}, {{"corner", "top_right"}}};
+  const Scene scene = scene_from_json(doc, "test.json");
+  Settings settings;
+  settings.ks = 20.0, settings.shear_ks = 20.0, settings.bend_ks = 5.0;
+  settings.areal_density = 15.0;
+  double worst[3] = {0.0, 0.0, 0.0};
+  const int passes[3] = {0, 1, 400};
+  for (int c = 0; c < 3; ++c) {
+    settings.correction_passes = passes[c];
+    Sim sim(scene, settings);
+    for (int k = 0; k < 810; ++k) {  // 0.3 s
+      sim.run(1);
+      worst[c] = std::max(worst[c], sim.max_stretch());
+    }
+  }
+  EXPECT_GT(worst[0], 1.5);               // no correction: far over
+  EXPECT_GT(worst[1], 1.1 + 1e-3);        // one pass: some spring stays over
+  EXPECT_LE(worst[2], 1.1 * (1 + 1e-6));  // iterated to convergence: none over
+}
+
+// --- pins, damping, determinism ------------------------------------------------------------------
+
+TEST(MassSpring, PinnedMassesNeverMove) {
+  Scene scene = cloth_scene("pinned4.json");
+  Sim sim(scene, settings_of(scene));
+  const std::vector<int> pins = resolve_pins(scene, sim.weave);
+  ASSERT_EQ(pins.size(), 4u);
+  for (int k = 0; k < 10; ++k) {
+    sim.run(50);
+    for (int p : pins) {
+      for (int c = 0; c < 3; ++c)
+        ASSERT_EQ(sim.state.position(c, p), sim.weave.rest_position(c, p));
+    }
+  }
+  // and the rest of the cloth did move
+  EXPECT_LT(sim.state.position.row(1).minCoeff(), 0.95);
+}
+
+TEST(MassSpring, HigherDampingBringsASwingingClothToRestSooner) {
+  nlohmann::json doc = grid_document(12, 12, 1.0 / 11.0);
+  doc["pins"] = {{{"corner", "top_left"}}, {{"corner", "top_right"}}};
+  const Scene scene = scene_from_json(doc, "test.json");
+  Settings settings;
+  settings.areal_density = 15.0;
+  double late_energy[2];
+  int settled_at[2];
+  const double damping[2] = {0.02, 0.2};
+  for (int c = 0; c < 2; ++c) {
+    settings.damping_percent = damping[c];
+    Sim sim(scene, settings);
+    late_energy[c] = 0.0;
+    settled_at[c] = -1;
+    for (int k = 0; k < 120; ++k) {  // 4 s in frames of 1/30 s
+      sim.run(90);
+      const double e = sim.kinetic_energy();
+      if (k >= 90) late_energy[c] += e;
+      if (e < 1e-3 && settled_at[c] < 0) settled_at[c] = k;
+      if (e >= 1e-3) settled_at[c] = -1;
+    }
+  }
+  EXPECT_LT(late_energy[1], 0.1 * late_energy[0]);
+  ASSERT_GE(settled_at[1], 0);                                      // the damped cloth settled ...
+  EXPECT_TRUE(settled_at[0] < 0 || settled_at[0] > settled_at[1]);  // ... before the other one
+}
+
+TEST(MassSpring, SameSceneTwiceGivesBitIdenticalPositions) {
+  const Scene scene = cloth_scene("sphere.json");
+  Sim a(scene, settings_of(scene)), b(scene, settings_of(scene));
+  a.run(600);
+  b.run(600);
+  ASSERT_EQ(a.state.position.size(), b.state.position.size());
+  EXPECT_EQ(std::memcmp(a.state.position.data(), b.state.position.data(),
+                        sizeof(double) * a.state.position.size()),
+            0);
+  EXPECT_GT(a.profile.stages().at("self_collide").calls, 0);
+}
+
+// --- colliders -----------------------------------------------------------------------------------
+
+TEST(MassSpring, ProjectOutOfEachColliderType) {
+  Collider plane;
+  plane.type = Collider::Type::plane;
+  plane.normal = Vec3::UnitY();
+  Vec3 p(0.3, -0.02, 0.1), n;
+  EXPECT_NEAR(project_out(plane, 0.0, p, n), 0.02, 1e-15);
+  EXPECT_EQ(p.y(), 0.0);
+
+  Collider sphere;
+  sphere.type = Collider::Type::sphere;
+  sphere.center = Vec3(1.0, 0.0, 0.0), sphere.radius = 0.5;
+  p = Vec3(1.0, 0.3, 0.0);
+  EXPECT_NEAR(project_out(sphere, 0.0, p, n), 0.2, 1e-15);
+  EXPECT_NEAR((p - sphere.center).norm(), 0.5, 1e-15);
+
+  Collider box;
+  box.type = Collider::Type::box;
+  box.half_extents = Vec3(1.0, 0.2, 1.0);
+  p = Vec3(0.5, 0.15, -0.3);
+  EXPECT_NEAR(project_out(box, 0.01, p, n), 0.06, 1e-12);
+  EXPECT_NEAR(p.y(), 0.21, 1e-15);
+  EXPECT_EQ(n, Vec3::UnitY());
+
+  Collider cylinder;
+  cylinder.type = Collider::Type::cylinder;
+  cylinder.radius = 0.5, cylinder.half_height = 1.0;
+  p = Vec3(0.4, 0.0, 0.0);
+  EXPECT_NEAR(project_out(cylinder, 0.0, p, n), 0.1, 1e-15);
+  EXPECT_NEAR(p.x(), 0.5, 1e-15);
+  p = Vec3(0.0, 0.95, 0.1);
+  EXPECT_NEAR(project_out(cylinder, 0.0, p, n), 0.05, 1e-12);
+  EXPECT_NEAR(p.y(), 1.0, 1e-15);
+  // outside: untouched
+  p = Vec3(2.0, 0.0, 0.0);
+  EXPECT_EQ(project_out(cylinder, 0.0, p, n), 0.0);
+  EXPECT_EQ(p, Vec3(2.0, 0.0, 0.0));
+}
+
+TEST(MassSpring, FrictionSticksBelowTheLimitAndSlidesAbove) {
+  const Vec3 normal = Vec3::UnitY();
+  Vec3 p(0.001, 0.0, 0.0);
+  apply_friction(Vec3::Zero(), normal, 0.01, 0.3, p);  // slide 1 mm < 0.3 * 10 mm: sticks
+  EXPECT_LT(p.norm(), 1e-15);
+  p = Vec3(0.01, 0.0, 0.0);
+  apply_friction(Vec3::Zero(), normal, 0.01, 0.3, p);  // slide 10 mm: loses 3 mm
+  EXPECT_NEAR(p.x(), 0.007, 1e-15);
+}
+
+TEST(MassSpring, NoMassInsideTheSphereAfterContact) {
+  const Scene scene = cloth_scene("sphere.json");
+  Sim sim(scene, settings_of(scene));
+  const Collider& sphere = scene.colliders.at(0);
+  int touching = 0;
+  for (int frame = 0; frame < 20; ++frame) {  // 2/3 s, it lands at about 0.3 s
+    sim.run(90);
+    for (int m = 0; m < sim.model.size(); ++m) {
+      const double r = (Vec3(sim.state.position.col(m)) - sphere.center).norm();
+      ASSERT_GE(r, sphere.radius * (1.0 - 1e-12)) << "mass " << m << " at frame " << frame;
+      touching += r < sphere.radius + 1e-4;
+    }
+  }
+  EXPECT_GT(touching, 0);
+}
+
+TEST(MassSpring, NoMassBelowThePlaneAfterContact) {
+  const Scene scene = cloth_scene("plane.json");
+  Sim sim(scene, settings_of(scene));
+  int touching = 0;
+  for (int frame = 0; frame < 15; ++frame) {  // 0.5 s, it lands at about 0.32 s
+    sim.run(90);
+    for (int m = 0; m < sim.model.size(); ++m) {
+      ASSERT_GE(sim.state.position(1, m), -1e-12) << "mass " << m << " at frame " << frame;
+      touching += sim.state.position(1, m) < 1e-6;
+    }
+  }
+  EXPECT_GT(touching, 0);
+  EXPECT_EQ(sim.profile.stages().count("self_collide"), 0u);  // the scene turns it off
+}
+
+// --- self-collision ------------------------------------------------------------------------------
+
+// the self-collision scene, run once for the tests below: snapshots every 1/10 s for 1.2 s
+class SelfCollisionScene : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    const Scene scene = cloth_scene("selfcollision.json");
+    settings_ = new Settings(settings_of(scene));
+    Sim sim(scene, *settings_);
+    snapshots_ = new std::vector<Positions>{sim.state.position};
+    worst_ = new double(settings_->thickness);
+    for (int frame = 1; frame <= 36; ++frame) {
+      sim.run(90);
+      *worst_ = std::min(*worst_, min_pair_distance(sim.state.position, settings_->thickness));
+      if (frame % 3 == 0) snapshots_->push_back(sim.state.position);
+    }
+    plane_ = new Collider(scene.colliders.at(0));
+  }
+  static void TearDownTestSuite() {
+    delete settings_, delete snapshots_, delete worst_, delete plane_;
+  }
+  static Settings* settings_;
+  static std::vector<Positions>* snapshots_;
+  static double* worst_;
+  static Collider* plane_;
+};
+Settings* SelfCollisionScene::settings_ = nullptr;
+std::vector<Positions>* SelfCollisionScene::snapshots_ = nullptr;
+double* SelfCollisionScene::worst_ = nullptr;
+Collider* SelfCollisionScene::plane_ = nullptr;
+
+TEST_F(SelfCollisionScene, MassesStayAtLeastTheThicknessApart) {
+  ASSERT_EQ(settings_->thickness, 0.0095);
+  EXPECT_GE(*worst_, settings_->thickness * (1.0 - 1e-4));
+  // the cloth did fold onto itself: many non-neighbour masses sit at about the thickness
+  int near = 0;
+  SpatialHash hash;
+  const Positions& last = snapshots_->back();
+  hash.build(last, 1.05 * settings_->thickness);
+  hash.for_each_pair(last, 1.05 * settings_->thickness, [&](int, int) { ++near; });
+  EXPECT_GT(near, 50);
+  for (int m = 0; m < last.cols(); ++m) {
+    ASSERT_GE((Vec3(last.col(m)) - plane_->center).dot(plane_->normal), -1e-12);
+  }
+}
+
+// cells sharing a bucket with another cell, for a given cell hash and table size
+template <class Hash>
+long long bucket_collisions(const Positions& x, double cell, int table, Hash hash) {
+  std::set<std::array<long long, 3>> cells;
+  for (int m = 0; m < x.cols(); ++m) {
+    cells.insert({static_cast<long long>(std::floor(x(0, m) / cell)),
+                  static_cast<long long>(std::floor(x(1, m) / cell)),
+                  static_cast<long long>(std::floor(x(2, m) / cell))});
+  }
+  std::unordered_set<std::uint64_t> buckets;
+  for (const auto& c : cells) buckets.insert(hash(c[0], c[1], c[2]) % table);
+  return static_cast<long long>(cells.size() - buckets.size());
+}
+
+TEST_F(SelfCollisionScene, WellMixedHashCollidesLessThanTheDocumentsHash) {
+  // the document's x + y^2 + z^3 (its absolute value, then modulo) against core's hash_cell,
+  // same cells (the thickness), same table size as SpatialHash picks (2n + 1)
+  auto document = [](long long x, long long y, long long z) {
+    const long long h = x + y * y + z * z * z;
+    return static_cast<std::uint64_t>(h < 0 ? -h : h);
+  };
+  auto mixed = [](long long x, long long y, long long z) { return hash_cell(x, y, z); };
+  long long doc_total = 0, mixed_total = 0;
+  for (const Positions& x : *snapshots_) {
+    const int table = 2 * static_cast<int>(x.cols()) + 1;
+    doc_total += bucket_collisions(x, settings_->thickness, table, document);
+    mixed_total += bucket_collisions(x, settings_->thickness, table, mixed);
+  }
+  std::printf("bucket collisions over %zu snapshots: x + y^2 + z^3 %lld, hash_cell %lld\n",
+              snapshots_->size(), doc_total, mixed_total);
+  RecordProperty("document_hash_collisions", std::to_string(doc_total));
+  RecordProperty("hash_cell_collisions", std::to_string(mixed_total));
+  EXPECT_LT(mixed_total, doc_total);
+}
+
+}  // namespace
+}  // namespace chainmail::massspring
