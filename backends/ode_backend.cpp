@@ -165,6 +165,7 @@ class OdeBackend final : public Backend {
     time_ += dt;
     if (failed_ || !world_) return;
     const double h = dt / settings_.substeps;
+    if (h != damping_step_) set_damping(h);
     try {
       for (int k = 0; k < settings_.substeps && !failed_; ++k) solver_step(h);
     } catch (const OdeFailure&) {
@@ -212,10 +213,7 @@ class OdeBackend final : public Backend {
     dWorldSetContactSurfaceLayer(world_, settings_.contact_layer * scene.ring.wire_radius * scale);
     dWorldSetAutoDisableFlag(world_, 0);
 
-    // ODE damps by a factor per solver step; convert the rates (1/s) so dt does not change them
-    const double h = settings_.dt / settings_.substeps;
-    dWorldSetLinearDamping(world_, -std::expm1(-settings_.linear_damping * h));
-    dWorldSetAngularDamping(world_, -std::expm1(-settings_.angular_damping * h));
+    set_damping(settings_.dt / settings_.substeps);
     dWorldSetLinearDampingThreshold(world_, 0.0);
     dWorldSetAngularDampingThreshold(world_, 0.0);
 
@@ -398,6 +396,13 @@ class OdeBackend final : public Backend {
     }
   }
 
+  // ODE damps by a factor per solver step; convert the rates (1/s) so dt does not change them
+  void set_damping(double h) {
+    dWorldSetLinearDamping(world_, -std::expm1(-settings_.linear_damping * h));
+    dWorldSetAngularDamping(world_, -std::expm1(-settings_.angular_damping * h));
+    damping_step_ = h;
+  }
+
   static void near_callback(void* data, dGeomID first, dGeomID second) {
     static_cast<OdeBackend*>(data)->collide_pair(first, second);
   }
@@ -571,6 +576,7 @@ class OdeBackend final : public Backend {
   std::vector<dGeomID> near_first_, near_second_;  // mid-phase scratch
   std::vector<dContactGeom> pair_contacts_;        // contacts of one ring pair, scratch
 
+  double damping_step_ = 0.0;   // s, solver step the world's damping factors were set for
   double time_ = 0.0;           // s
   long long solver_steps_ = 0;  // solver steps taken, seeds QuickStep's shuffle
   bool failed_ = false;         // ODE failed or a body went non-finite
