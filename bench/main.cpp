@@ -27,7 +27,8 @@ int main(int argc, char** argv) {
   RunCommand run;
   CLI::App* run_app = app.add_subcommand("run", "run one scene through one or more backends");
   run_app->add_option("scene", run.scene_file, "scene file (JSON)")->required();
-  run_app->add_option("--backends", run.backends, "backends to run: a list, or all")->delimiter(',');
+  run_app->add_option("--backends", run.backends, "backends to run: a list, or all")
+      ->delimiter(',');
   run_app->add_option("--out", run.out_dir, "output folder (default results/<scene name>)");
   run_app->add_flag("--frames", run.frames, "write frames/<backend>/<NNNNN>.csv");
   run_app->add_flag("--render", run.render, "render side-by-side PNG frames into images/");
@@ -38,9 +39,11 @@ int main(int argc, char** argv) {
   run_app->add_flag("--quiet", run_quiet, "no progress lines");
 
   SweepCommand sweep;
-  CLI::App* sweep_app = app.add_subcommand("sweep", "error against run time over a grid of knob values");
+  CLI::App* sweep_app =
+      app.add_subcommand("sweep", "error against run time over a grid of knob values");
   sweep_app->add_option("scene", sweep.scene_file, "scene file (JSON)")->required();
-  sweep_app->add_option("--vary", sweep.vary, "KEY=v1,v2,... ({backend} in KEY: each backend)")->required();
+  sweep_app->add_option("--vary", sweep.vary, "KEY=v1,v2,... ({backend} in KEY: each backend)")
+      ->required();
   sweep_app->add_option("--backends", sweep.backends, "backends: a list, or all")->delimiter(',');
   sweep_app->add_option("--set", sweep.overrides, "override a scene key for every point");
   sweep_app->add_option("--out", sweep.out_dir, "output folder (default results/<scene>/sweep)");
@@ -49,18 +52,23 @@ int main(int argc, char** argv) {
   sweep_app->add_option("--cache", sweep.cache_dir, "reference-run cache folder");
 
   StabilityCommand stability;
-  CLI::App* stability_app = app.add_subcommand("stability", "stiff and extreme cases: verdicts and largest stable dt");
-  stability_app->add_option("--backends", stability.backends, "backends: a list, or all")->delimiter(',');
+  CLI::App* stability_app =
+      app.add_subcommand("stability", "stiff and extreme cases: verdicts and largest stable dt");
+  stability_app->add_option("--backends", stability.backends, "backends: a list, or all")
+      ->delimiter(',');
   stability_app->add_option("--out", stability.out_dir, "output folder");
   stability_app->add_flag("--quick", stability.quick, "tiny sizes (test mode)");
-  stability_app->add_option("--max-wall", stability.max_wall_seconds, "watchdog per run, s")->check(CLI::PositiveNumber);
+  stability_app->add_option("--max-wall", stability.max_wall_seconds, "watchdog per run, s")
+      ->check(CLI::PositiveNumber);
 
   BenchCommand bench;
-  CLI::App* bench_app = app.add_subcommand("bench", "the default scene set across all backends, writing results/");
+  CLI::App* bench_app =
+      app.add_subcommand("bench", "the default scene set across all backends, writing results/");
   bench_app->add_option("--out", bench.out_dir, "output folder");
   bench_app->add_flag("--quick", bench.quick, "reduced sizes and durations (test mode)");
   bench_app->add_option("--backends", bench.backends, "backends: a list, or all")->delimiter(',');
-  bench_app->add_option("--jobs", bench.jobs, "sweep points in parallel")->check(CLI::Range(1, 256));
+  bench_app->add_option("--jobs", bench.jobs, "sweep points in parallel")
+      ->check(CLI::Range(1, 256));
   bool no_render = false;
   bench_app->add_flag("--no-render", no_render, "skip the side-by-side frames");
 

@@ -40,8 +40,7 @@ double collider_distance(const Collider& collider, const Vec3& p, Vec3& normal) 
       const double r = radial.norm();
       const double dr = r - collider.radius;
       const double dy = std::abs(local.y()) - collider.half_height;
-      const Vec3 radial_dir =
-          r > 1e-15 ? Vec3(local.x() / r, 0.0, local.z() / r) : Vec3::UnitX();
+      const Vec3 radial_dir = r > 1e-15 ? Vec3(local.x() / r, 0.0, local.z() / r) : Vec3::UnitX();
       const Vec3 cap_dir(0.0, local.y() >= 0.0 ? 1.0 : -1.0, 0.0);
       if (dr <= 0.0 && dy <= 0.0) {
         normal = dr > dy ? radial_dir : cap_dir;

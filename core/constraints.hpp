@@ -10,16 +10,18 @@ namespace chainmail {
 // The correction is shared by inverse mass; pinned ends (w = 0) do not move.
 // Returns false when the edge already satisfies the bounds (corrections untouched).
 inline bool solve_edge_constraint(const Vec3& p0, double w0, const Vec3& p1, double w1,
-                                  double min_length, double max_length, Vec3& corr0,
-                                  Vec3& corr1) {
+                                  double min_length, double max_length, Vec3& corr0, Vec3& corr1) {
   const Vec3 d = p1 - p0;
   const double length = d.norm();
   const double w = w0 + w1;
   if (w == 0.0 || length < 1e-15) return false;
   double target;
-  if (length > max_length) target = max_length;
-  else if (length < min_length) target = min_length;
-  else return false;
+  if (length > max_length)
+    target = max_length;
+  else if (length < min_length)
+    target = min_length;
+  else
+    return false;
   const Vec3 n = d / length;
   const double error = length - target;  // > 0 stretched, < 0 compressed
   corr0 = (w0 / w * error) * n;

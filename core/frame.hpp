@@ -24,9 +24,7 @@ struct RingFrame {
     return Quat(orientation(0, ring), orientation(1, ring), orientation(2, ring),
                 orientation(3, ring));
   }
-  void set_quat(int ring, const Quat& q) {
-    orientation.col(ring) << q.w(), q.x(), q.y(), q.z();
-  }
+  void set_quat(int ring, const Quat& q) { orientation.col(ring) << q.w(), q.x(), q.y(), q.z(); }
 };
 
 // 64-bit FNV-1a over the bit patterns of positions and orientations: same frame, same hash

@@ -113,8 +113,10 @@ int disk_crossings(const Circle& first, const Circle& second, int samples) {
       double lo = s0, hi = s1, hlo = h0;
       for (int it = 0; it < 50; ++it) {
         const double mid = 0.5 * (lo + hi), hm = height(mid);
-        if ((hm < 0.0) == (hlo < 0.0)) lo = mid, hlo = hm;
-        else hi = mid;
+        if ((hm < 0.0) == (hlo < 0.0))
+          lo = mid, hlo = hm;
+        else
+          hi = mid;
       }
       const Vec3 q = b.at(0.5 * (lo + hi)) - first.centre;
       const Vec3 in_plane = q - q.dot(first.normal) * first.normal;

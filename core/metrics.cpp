@@ -12,9 +12,8 @@ namespace chainmail {
 
 const std::vector<std::string>& metric_names() {
   static const std::vector<std::string> names = {
-      "max_stretch",   "mean_stretch",      "penetrating_linked", "penetrating_other",
-      "broken_links",  "false_links",       "drape_coefficient",  "drape_rms",
-      "kinetic_energy", "max_speed"};
+      "max_stretch", "mean_stretch",      "penetrating_linked", "penetrating_other", "broken_links",
+      "false_links", "drape_coefficient", "drape_rms",          "kinetic_energy",    "max_speed"};
   return names;
 }
 
@@ -69,7 +68,8 @@ Metrics measure(const RingFrame& frame, const Weave& weave, const Scene& scene,
   // other pairs: only those whose centres are close enough to touch or link (< 2c + 2a)
   if (options.other_pairs && n > 1) {
     std::unordered_set<long long> linked;
-    for (const RingPair& link : weave.links) linked.insert(static_cast<long long>(link.a) * n + link.b);
+    for (const RingPair& link : weave.links)
+      linked.insert(static_cast<long long>(link.a) * n + link.b);
     const double reach = 2.0 * c + 2.0 * a;
     SpatialHash hash;
     hash.build(frame.position, reach);
@@ -100,11 +100,9 @@ Metrics measure(const RingFrame& frame, const Weave& weave, const Scene& scene,
 double drape_rms(const RingFrame& frame, const RingFrame& reference) {
   const int n = std::min(frame.size(), reference.size());
   if (n == 0) return 0.0;
-  return std::sqrt((frame.position.leftCols(n) - reference.position.leftCols(n))
-                       .colwise()
-                       .squaredNorm()
-                       .sum() /
-                   n);
+  return std::sqrt(
+      (frame.position.leftCols(n) - reference.position.leftCols(n)).colwise().squaredNorm().sum() /
+      n);
 }
 
 double projected_area(const RingFrame& frame, double centre_radius, double cell) {

@@ -12,17 +12,17 @@
 namespace chainmail {
 
 struct Metrics {
-  double max_stretch = 0.0;   // over linked pairs: centre distance / 2(c - a)
+  double max_stretch = 0.0;  // over linked pairs: centre distance / 2(c - a)
   double mean_stretch = 0.0;
-  long long penetrating_linked = 0;  // neighbour pairs whose tori interpenetrate
-  long long penetrating_other = 0;   // other pairs whose tori interpenetrate
-  long long broken_links = 0;        // neighbour pairs no longer linked
-  long long false_links = 0;         // other pairs now linked
+  long long penetrating_linked = 0;         // neighbour pairs whose tori interpenetrate
+  long long penetrating_other = 0;          // other pairs whose tori interpenetrate
+  long long broken_links = 0;               // neighbour pairs no longer linked
+  long long false_links = 0;                // other pairs now linked
   std::optional<double> drape_coefficient;  // Cusick, scenes with a support only
   std::optional<double> drape_rms;          // m, against the reference run
   double kinetic_energy = 0.0;              // J, translational
   double max_speed = 0.0;                   // m/s
-  long long non_finite = 0;                 // NaN / inf entries in the frame (counted, not crashed on)
+  long long non_finite = 0;  // NaN / inf entries in the frame (counted, not crashed on)
 };
 
 // metric column names in CSV order

@@ -7,8 +7,12 @@
 namespace chainmail {
 namespace {
 
-Quat quat_at(const Orientations& o, int i) { return Quat(o(0, i), o(1, i), o(2, i), o(3, i)); }
-void store(Orientations& o, int i, const Quat& q) { o.col(i) << q.w(), q.x(), q.y(), q.z(); }
+Quat quat_at(const Orientations& o, int i) {
+  return Quat(o(0, i), o(1, i), o(2, i), o(3, i));
+}
+void store(Orientations& o, int i, const Quat& q) {
+  o.col(i) << q.w(), q.x(), q.y(), q.z();
+}
 
 // direction along one grid axis: opposite neighbour to opposite neighbour for interior rings,
 // centre to the one neighbour on edges; false when the ring has no neighbour on that axis

@@ -8,8 +8,9 @@
 namespace chainmail {
 
 // eq. (1): two neighbour directions x and z (not necessarily orthogonal) -> a right-handed
-// orthonormal basis, columns (x', y, z'), with y = |z x x| the ring axis and x', z' rotated apart to
-// 45 deg either side of the bisector v45 = |x + z|:  v135 = y x v45,  x' = |v45 + v135|,  z' = x' x y.
+// orthonormal basis, columns (x', y, z'), with y = |z x x| the ring axis and x', z' rotated apart
+// to 45 deg either side of the bisector v45 = |x + z|:  v135 = y x v45,  x' = |v45 + v135|,  z' =
+// x' x y.
 Mat3 orthonormal_basis_eq1(const Vec3& x, const Vec3& z);
 
 // swivel angle interpolated linearly between a/c at full extension (ratio 1) and pi/2 fully
@@ -23,8 +24,8 @@ struct OrientationSettings {
 };
 
 // orientations of every ring from the ring centres (paper §4). `orientation` holds the previous
-// orientations on entry (used only where a ring lacks neighbours along a grid direction) and the new
-// ones on exit.
+// orientations on entry (used only where a ring lacks neighbours along a grid direction) and the
+// new ones on exit.
 void orient_rings(const Positions& position, const Weave& weave, const RingGeometry& ring,
                   const OrientationSettings& settings, Orientations& orientation);
 

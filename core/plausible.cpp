@@ -8,7 +8,8 @@
 
 namespace chainmail {
 
-void PlausibleSim::reset(const Scene& scene, const Weave& weave, const PlausibleSettings& settings) {
+void PlausibleSim::reset(const Scene& scene, const Weave& weave,
+                         const PlausibleSettings& settings) {
   weave_ = weave;
   const int n = weave.size();
   const RingGeometry& ring = scene.ring;
@@ -33,7 +34,8 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave, const Plausible
     }
     for (size_t head = 0; head < queue.size(); ++head) {
       for (int other : weave.neighbours[queue[head]]) {
-        if (other >= 0 && depth[other] < 0) depth[other] = depth[queue[head]] + 1, queue.push_back(other);
+        if (other >= 0 && depth[other] < 0)
+          depth[other] = depth[queue[head]] + 1, queue.push_back(other);
       }
     }
     for (const EdgeConstraint& e : model_.edges) {
@@ -107,7 +109,8 @@ void PlausibleSim::accumulate_forces() {
   hash_.build(state_.position, range);
   hash_.for_each_pair(state_.position, range, [&](int i, int j) {
     const auto& nb = weave_.neighbours[i];
-    if (nb[0] == j || nb[1] == j || nb[2] == j || nb[3] == j) return;  // linked: constraints hold them
+    if (nb[0] == j || nb[1] == j || nb[2] == j || nb[3] == j)
+      return;  // linked: constraints hold them
     const Vec3 f = repulsion_force(state_.position.col(i), state_.position.col(j), range, k);
     state_.force.col(i) += f;
     state_.force.col(j) -= f;

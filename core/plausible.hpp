@@ -1,6 +1,6 @@
-// The paper's plausible chainmail model (§3-§4): a mass per ring and no springs. Neighbour rings are
-// held by Provot edge constraints (at most a fraction of the inner diameter apart, at least the wire
-// thickness), non-neighbours repel through a spatial hash, velocities are recomputed from the
+// The paper's plausible chainmail model (§3-§4): a mass per ring and no springs. Neighbour rings
+// are held by Provot edge constraints (at most a fraction of the inner diameter apart, at least the
+// wire thickness), non-neighbours repel through a spatial hash, velocities are recomputed from the
 // constrained positions, and ring orientations are derived from the neighbour vectors.
 #pragma once
 
@@ -16,14 +16,14 @@
 namespace chainmail {
 
 struct PlausibleSettings {
-  int iterations = 10;               // constraint sweeps per step
-  double max_link_fraction = 0.95;   // effective inner diameter / inner diameter (paper §3)
-  double damping = 0.5;              // 1/s, velocity drag
-  double repulsion_fraction = 0.7;   // repulsion range / inner diameter
-  double repulsion_stiffness = 10.0; // N/m
-  double contact_margin = 0.0;       // m, collider skin around a ring centre; 0 = a + c sin(a/c)
-  bool swivel = true;                // paper §4 swivel (4in1)
-  double swivel_extended = 0.0;      // rad, swivel at full extension; 0 = the paper's a/c
+  int iterations = 10;                // constraint sweeps per step
+  double max_link_fraction = 0.95;    // effective inner diameter / inner diameter (paper §3)
+  double damping = 0.5;               // 1/s, velocity drag
+  double repulsion_fraction = 0.7;    // repulsion range / inner diameter
+  double repulsion_stiffness = 10.0;  // N/m
+  double contact_margin = 0.0;        // m, collider skin around a ring centre; 0 = a + c sin(a/c)
+  bool swivel = true;                 // paper §4 swivel (4in1)
+  double swivel_extended = 0.0;       // rad, swivel at full extension; 0 = the paper's a/c
   // after the sweeps, one pass outward from the pins that moves only the ring farther from a pin
   // (Provot's fixed-end rule; shock propagation): removes the stretch a hanging sheet accumulates
   // when Gauss-Seidel sweeps alone would need O(rows^2) iterations
@@ -40,28 +40,28 @@ struct EdgeConstraint {
 // fixed model: built once from the scene
 struct PlausibleModel {
   RingGeometry ring;
-  std::vector<double> mass;            // (n) kg
-  std::vector<double> inverse_mass;    // (n) 1/kg, 0 for pinned rings
-  std::vector<EdgeConstraint> edges;   // (m) neighbour links
-  std::vector<EdgeConstraint> outward; // edges reachable from a pin, a = nearer the pin, by depth
+  std::vector<double> mass;             // (n) kg
+  std::vector<double> inverse_mass;     // (n) 1/kg, 0 for pinned rings
+  std::vector<EdgeConstraint> edges;    // (m) neighbour links
+  std::vector<EdgeConstraint> outward;  // edges reachable from a pin, a = nearer the pin, by depth
   std::vector<Collider> colliders;
-  Vec3 gravity = Vec3::Zero();         // m/s^2
+  Vec3 gravity = Vec3::Zero();  // m/s^2
   bool self_contact = true;
-  double repulsion_range = 0.0;        // m
-  double contact_margin = 0.0;         // m
+  double repulsion_range = 0.0;  // m
+  double contact_margin = 0.0;   // m
   PlausibleSettings settings;
 };
 
 // changing state
 struct PlausibleState {
-  double t = 0.0;              // s
-  Positions position;          // (3, n) m
-  Positions velocity;          // (3, n) m/s
-  Positions previous;          // (3, n) m, positions at the start of the step
-  Positions force;             // (3, n) N, accumulated external + repulsion
-  Orientations orientation;    // (4, n) w, x, y, z
-  Eigen::VectorXd contact_push;  // (n) m, collider push-out this step (0: no contact)
-  Positions contact_normal;      // (3, n) unit, last collider normal this step
+  double t = 0.0;                    // s
+  Positions position;                // (3, n) m
+  Positions velocity;                // (3, n) m/s
+  Positions previous;                // (3, n) m, positions at the start of the step
+  Positions force;                   // (3, n) N, accumulated external + repulsion
+  Orientations orientation;          // (4, n) w, x, y, z
+  Eigen::VectorXd contact_push;      // (n) m, collider push-out this step (0: no contact)
+  Positions contact_normal;          // (3, n) unit, last collider normal this step
   Eigen::VectorXd contact_friction;  // (n) Coulomb coefficient of that collider
 };
 

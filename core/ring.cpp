@@ -17,7 +17,9 @@ double RingGeometry::volume() const {
   return 2.0 * std::numbers::pi * std::numbers::pi * centre_radius * wire_radius * wire_radius;
 }
 
-double RingGeometry::mass() const { return density * volume(); }
+double RingGeometry::mass() const {
+  return density * volume();
+}
 
 Vec3 RingGeometry::inertia() const {
   // solid torus: about its axis m (c^2 + 3/4 a^2), about a diameter m (c^2 / 2 + 5/8 a^2)

@@ -24,13 +24,16 @@ struct RingGeometry {
 
   double volume() const;  // 2 pi^2 c a^2, m^3
   double mass() const;    // kg
-  // principal moments of inertia about the centre, local axes (x, y, z) with y the ring axis; kg m^2
+  // principal moments of inertia about the centre, local axes (x, y, z) with y the ring axis; kg
+  // m^2
   Vec3 inertia() const;
 };
 
 // point on the ring's centre circle at angle s, in world space
 Vec3 centre_circle_point(const Vec3& centre, const Quat& orientation, double c, double s);
 // ring normal (local +Y) in world space
-inline Vec3 ring_axis(const Quat& orientation) { return orientation * Vec3::UnitY(); }
+inline Vec3 ring_axis(const Quat& orientation) {
+  return orientation * Vec3::UnitY();
+}
 
 }  // namespace chainmail

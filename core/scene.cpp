@@ -65,7 +65,8 @@ class Reader {
     const json* value = take(key, true);
     bool x = fallback;
     if (value) {
-      if (!value->is_boolean()) fail(key_path(key), "must be true or false, got " + type_of(*value));
+      if (!value->is_boolean())
+        fail(key_path(key), "must be true or false, got " + type_of(*value));
       x = value->get<bool>();
     }
     resolved_[key] = x;
@@ -113,12 +114,14 @@ class Reader {
   // a nested object; absent -> empty object when optional
   const json* child(const std::string& key, bool required) {
     const json* value = take(key, !required);
-    if (value && !value->is_object()) fail(key_path(key), "must be an object, got " + type_of(*value));
+    if (value && !value->is_object())
+      fail(key_path(key), "must be an object, got " + type_of(*value));
     return value;
   }
   const json* array(const std::string& key) {
     const json* value = take(key, true);
-    if (value && !value->is_array()) fail(key_path(key), "must be an array, got " + type_of(*value));
+    if (value && !value->is_array())
+      fail(key_path(key), "must be an array, got " + type_of(*value));
     return value;
   }
   json& resolved() { return resolved_; }
@@ -139,7 +142,8 @@ class Reader {
     }
     return &*it;
   }
-  void check_range(const std::string& key, double x, double min, double max, bool min_exclusive) const {
+  void check_range(const std::string& key, double x, double min, double max,
+                   bool min_exclusive) const {
     if (!std::isfinite(x)) fail(key_path(key), "must be finite");
     std::ostringstream range;
     range << (min_exclusive ? "(" : "[") << min << ", " << max << "]";
@@ -213,8 +217,8 @@ void read_weave(Scene& scene, Reader& top) {
   if (scene.ring.aspect_ratio() < min_ar) {
     std::ostringstream msg;
     msg << "aspect ratio ID/WD = " << scene.ring.aspect_ratio() << " is too small for the "
-        << (w.type == WeaveType::chain ? "chain" : "4in1") << " weave to interlock (needs >= "
-        << min_ar << ")";
+        << (w.type == WeaveType::chain ? "chain" : "4in1")
+        << " weave to interlock (needs >= " << min_ar << ")";
     throw SceneError(scene.file + ": key 'ring.inner_diameter': " + msg.str());
   }
 }
@@ -292,19 +296,26 @@ void read_colliders(Scene& scene, Reader& top) {
 
 const char* to_string(WeaveType type) {
   switch (type) {
-    case WeaveType::chain: return "chain";
-    case WeaveType::four_in_one: return "4in1";
-    case WeaveType::grid: return "grid";
+    case WeaveType::chain:
+      return "chain";
+    case WeaveType::four_in_one:
+      return "4in1";
+    case WeaveType::grid:
+      return "grid";
   }
   return "?";
 }
 
 const char* to_string(Collider::Type type) {
   switch (type) {
-    case Collider::Type::plane: return "plane";
-    case Collider::Type::sphere: return "sphere";
-    case Collider::Type::box: return "box";
-    case Collider::Type::cylinder: return "cylinder";
+    case Collider::Type::plane:
+      return "plane";
+    case Collider::Type::sphere:
+      return "sphere";
+    case Collider::Type::box:
+      return "box";
+    case Collider::Type::cylinder:
+      return "cylinder";
   }
   return "?";
 }
@@ -472,8 +483,9 @@ Scene load_scene_file(const std::string& path, const std::vector<std::string>& o
     // nlohmann reports "line L, column C" in its message
     std::string what = e.what();
     const auto at = what.find("line ");
-    throw SceneError(path + ": JSON syntax error at " +
-                     (at == std::string::npos ? "byte " + std::to_string(e.byte) : what.substr(at)));
+    throw SceneError(
+        path + ": JSON syntax error at " +
+        (at == std::string::npos ? "byte " + std::to_string(e.byte) : what.substr(at)));
   }
   for (const auto& assignment : overrides) apply_override(document, assignment, path);
   return scene_from_json(document, path);

@@ -20,7 +20,8 @@ class SceneError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// grid: a plain square grid of point masses (cloth scenes); neighbours share an edge, no rings interlock
+// grid: a plain square grid of point masses (cloth scenes); neighbours share an edge, no rings
+// interlock
 enum class WeaveType { chain, four_in_one, grid };
 // plane of the rest sheet: rows run along the first axis, rows advance along the second
 // (xy and yz advance downwards so row 0 is the top; yx runs rows downwards, for hanging chains)
@@ -39,7 +40,8 @@ struct PinSpec {
   enum class Kind { ring, edge, corner };
   Kind kind = Kind::ring;
   int row = 0, col = 0;  // kind == ring: physical row and position in the row
-  std::string which;     // edge: top|bottom|left|right; corner: top_left|top_right|bottom_left|bottom_right
+  std::string
+      which;  // edge: top|bottom|left|right; corner: top_left|top_right|bottom_left|bottom_right
 };
 
 struct Collider {
@@ -73,10 +75,10 @@ struct Load {
 };
 
 struct StabilityBounds {
-  double max_speed = 20.0;           // m/s; any ring faster is unstable
-  bool links_must_hold = true;       // a torn link (stretched past max_stretch) is an instability
-  double max_stretch = 1.25;         // link centre distance / 2(c - a) beyond which a link is torn
-  double energy_growth = 1.5;        // total energy may not exceed this factor of its start + input
+  double max_speed = 20.0;      // m/s; any ring faster is unstable
+  bool links_must_hold = true;  // a torn link (stretched past max_stretch) is an instability
+  double max_stretch = 1.25;    // link centre distance / 2(c - a) beyond which a link is torn
+  double energy_growth = 1.5;   // total energy may not exceed this factor of its start + input
 };
 
 struct Scene {

@@ -36,7 +36,8 @@ class SpatialHash {
   // table_size buckets (0: twice the point count)
   void build(const Positions& points, double cell_size, int table_size = 0);
 
-  // calls visit(j) for every point j > i (or every j != i when all_pairs) within `radius` of point i
+  // calls visit(j) for every point j > i (or every j != i when all_pairs) within `radius` of point
+  // i
   template <class Visit>
   void for_each_near(const Positions& points, int i, double radius, Visit&& visit) const;
   // every unordered pair (i < j) closer than `radius`; radius <= cell size
@@ -48,20 +49,23 @@ class SpatialHash {
   long long foreign_entries() const;
 
  private:
-  std::int64_t cell_of(double x) const { return static_cast<std::int64_t>(std::floor(x * inv_cell_)); }
+  std::int64_t cell_of(double x) const {
+    return static_cast<std::int64_t>(std::floor(x * inv_cell_));
+  }
   int bucket_of_key(std::uint64_t key) const {
     return static_cast<int>(mix_cell(key) & mask_);  // power-of-two table
   }
 
   double inv_cell_ = 1.0;
   std::uint64_t mask_ = 0;
-  std::vector<int> bucket_start_;  // (table + 1) prefix offsets into sorted_
-  std::vector<int> sorted_;        // (n) point indices grouped by bucket
+  std::vector<int> bucket_start_;          // (table + 1) prefix offsets into sorted_
+  std::vector<int> sorted_;                // (n) point indices grouped by bucket
   std::vector<std::uint64_t> sorted_key_;  // (n) packed cell of each sorted point
 };
 
 template <class Visit>
-void SpatialHash::for_each_near(const Positions& points, int i, double radius, Visit&& visit) const {
+void SpatialHash::for_each_near(const Positions& points, int i, double radius,
+                                Visit&& visit) const {
   const Vec3 p = points.col(i);
   const double r2 = radius * radius;
   const std::int64_t cx = cell_of(p.x()), cy = cell_of(p.y()), cz = cell_of(p.z());

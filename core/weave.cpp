@@ -15,10 +15,14 @@ struct SheetAxes {
 // ring frame (X = row, Y = normal, Z = advance) is right-handed
 SheetAxes sheet_axes(SheetPlane plane) {
   switch (plane) {
-    case SheetPlane::xz: return {Vec3::UnitX(), Vec3::UnitZ(), Vec3::UnitY()};
-    case SheetPlane::xy: return {Vec3::UnitX(), -Vec3::UnitY(), Vec3::UnitZ()};
-    case SheetPlane::yz: return {Vec3::UnitZ(), -Vec3::UnitY(), -Vec3::UnitX()};
-    case SheetPlane::yx: return {-Vec3::UnitY(), Vec3::UnitX(), -Vec3::UnitZ()};
+    case SheetPlane::xz:
+      return {Vec3::UnitX(), Vec3::UnitZ(), Vec3::UnitY()};
+    case SheetPlane::xy:
+      return {Vec3::UnitX(), -Vec3::UnitY(), Vec3::UnitZ()};
+    case SheetPlane::yz:
+      return {Vec3::UnitZ(), -Vec3::UnitY(), -Vec3::UnitX()};
+    case SheetPlane::yx:
+      return {-Vec3::UnitY(), Vec3::UnitX(), -Vec3::UnitZ()};
   }
   return {Vec3::UnitX(), Vec3::UnitZ(), Vec3::UnitY()};
 }
@@ -41,8 +45,9 @@ void build_links(Weave& weave, int grid_i, int grid_j) {
       if (other >= 0) weave.links.push_back({std::min(ring, other), std::max(ring, other)});
     }
   }
-  std::sort(weave.links.begin(), weave.links.end(),
-            [](const RingPair& x, const RingPair& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+  std::sort(weave.links.begin(), weave.links.end(), [](const RingPair& x, const RingPair& y) {
+    return x.a != y.a ? x.a < y.a : x.b < y.b;
+  });
 }
 
 }  // namespace
@@ -75,7 +80,8 @@ Weave make_weave(const WeaveSpec& spec, const RingGeometry& ring) {
   const double inner = ring.inner_diameter();
 
   auto place = [&](int index, double along_row, double along_advance, const Quat& q) {
-    weave.rest_position.col(index) = spec.center + along_row * axes.row + along_advance * axes.advance;
+    weave.rest_position.col(index) =
+        spec.center + along_row * axes.row + along_advance * axes.advance;
     weave.rest_orientation.col(index) << q.w(), q.x(), q.y(), q.z();
   };
 
@@ -156,10 +162,9 @@ std::vector<int> resolve_pins(const Scene& scene, const Weave& weave) {
       case PinSpec::Kind::edge:
         for (int r = 0; r < weave.rows; ++r) {
           for (int k = 0; k < weave.cols; ++k) {
-            const bool on = (pin.which == "top" && r == 0) ||
-                            (pin.which == "bottom" && r == weave.rows - 1) ||
-                            (pin.which == "left" && k == 0) ||
-                            (pin.which == "right" && k == weave.cols - 1);
+            const bool on =
+                (pin.which == "top" && r == 0) || (pin.which == "bottom" && r == weave.rows - 1) ||
+                (pin.which == "left" && k == 0) || (pin.which == "right" && k == weave.cols - 1);
             if (on) pinned.push_back(weave.ring_at_row_col(r, k));
           }
         }

@@ -3,8 +3,8 @@
 #include <cstdio>
 
 #include "bench/harness/output.hpp"
-#include "bench/harness/run.hpp"
 #include "bench/harness/render_output.hpp"
+#include "bench/harness/run.hpp"
 
 namespace chainmail {
 
@@ -18,7 +18,8 @@ int run_command(const RunCommand& command) {
   select_backends(scene, options.backends);  // refuse unknown names before any work
   OutputOptions output;
   output.frames = command.frames || scene.write_frames;
-  if (command.render) output.render = make_render_writer(command.shader);  // checks GL + shaders first
+  if (command.render)
+    output.render = make_render_writer(command.shader);  // checks GL + shaders first
 
   const SceneRun run = run_scene(scene, options);
   const std::string folder = command.out_dir.empty() ? "results/" + scene.name : command.out_dir;

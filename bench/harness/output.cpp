@@ -102,7 +102,8 @@ std::string metrics_csv(const SceneRun& run) {
   for (const BackendRun& b : run.runs) {
     for (const Sample& s : b.samples) {
       out << b.name << ',' << csv_number(s.t);
-      for (const auto& name : metric_names()) out << ',' << csv_number(metric_value(s.metrics, name));
+      for (const auto& name : metric_names())
+        out << ',' << csv_number(metric_value(s.metrics, name));
       out << ',' << csv_number(s.step_wall_ms) << '\n';
     }
   }
@@ -132,15 +133,15 @@ std::string table_markdown(const SceneRun& run) {
     const Metrics& m = b.final_metrics();
     // cost per simulated second relative to plausible's
     const double relative = plausible_ms > 0 ? (b.ms_per_step() / b.dt) / plausible_ms : NAN;
-    std::snprintf(line, sizeof line,
-                  "| %s | %g | %.3f | %.2f | %s | %s | %.4f | %.4f | %lld | %lld | %lld | %lld | %s "
-                  "| %s |\n",
-                  b.name.c_str(), b.dt, b.ms_per_step(), b.realtime_factor(),
-                  std::isnan(relative) ? "-" : (csv_number(relative) + "x").c_str(),
-                  b.verdict.c_str(), m.max_stretch, m.mean_stretch, m.penetrating_linked,
-                  m.penetrating_other, m.broken_links, m.false_links,
-                  m.drape_rms ? csv_number(1e3 * *m.drape_rms).c_str() : "-",
-                  m.drape_coefficient ? csv_number(*m.drape_coefficient).c_str() : "-");
+    std::snprintf(
+        line, sizeof line,
+        "| %s | %g | %.3f | %.2f | %s | %s | %.4f | %.4f | %lld | %lld | %lld | %lld | %s "
+        "| %s |\n",
+        b.name.c_str(), b.dt, b.ms_per_step(), b.realtime_factor(),
+        std::isnan(relative) ? "-" : (csv_number(relative) + "x").c_str(), b.verdict.c_str(),
+        m.max_stretch, m.mean_stretch, m.penetrating_linked, m.penetrating_other, m.broken_links,
+        m.false_links, m.drape_rms ? csv_number(1e3 * *m.drape_rms).c_str() : "-",
+        m.drape_coefficient ? csv_number(*m.drape_coefficient).c_str() : "-");
     out << line;
   }
   out << "\nms/step counts `step()` only; real-time factor = simulated / wall seconds.\n";
@@ -161,7 +162,8 @@ std::string frame_csv(const RingFrame& frame, const Weave& weave) {
   return out.str();
 }
 
-void write_run_folder(const SceneRun& run, const std::string& folder, const OutputOptions& options) {
+void write_run_folder(const SceneRun& run, const std::string& folder,
+                      const OutputOptions& options) {
   write_folder_atomic(folder, [&](const std::string& staging) {
     write_file_atomic(staging + "/summary.json", summary_json(run).dump(2) + "\n");
     write_file_atomic(staging + "/metrics.csv", metrics_csv(run));
@@ -171,7 +173,8 @@ void write_run_folder(const SceneRun& run, const std::string& folder, const Outp
         for (size_t k = 0; k < b.frames.size(); ++k) {
           char name[32];
           std::snprintf(name, sizeof name, "/%05zu.csv", k);
-          write_file_atomic(staging + "/frames/" + b.name + name, frame_csv(b.frames[k], run.weave));
+          write_file_atomic(staging + "/frames/" + b.name + name,
+                            frame_csv(b.frames[k], run.weave));
         }
       }
     }

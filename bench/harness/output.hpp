@@ -16,7 +16,8 @@ namespace chainmail {
 void write_file_atomic(const std::string& path, const std::string& text);
 
 // a folder filled by `fill(staging_path)`, then moved onto `path` (replacing what was there)
-void write_folder_atomic(const std::string& path, const std::function<void(const std::string&)>& fill);
+void write_folder_atomic(const std::string& path,
+                         const std::function<void(const std::string&)>& fill);
 
 nlohmann::json summary_json(const SceneRun& run);
 std::string metrics_csv(const SceneRun& run);

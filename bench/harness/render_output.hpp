@@ -10,6 +10,7 @@ namespace chainmail {
 
 // a writer for OutputOptions::render; creating it checks that GL and the shaders are available
 // (throws SceneError-like errors that the command line maps to exit status 2)
-std::function<void(const SceneRun&, const std::string&)> make_render_writer(const std::string& cloth_shader);
+std::function<void(const SceneRun&, const std::string&)> make_render_writer(
+    const std::string& cloth_shader);
 
 }  // namespace chainmail

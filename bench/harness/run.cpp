@@ -24,13 +24,15 @@ double seconds_since(Clock::time_point start) {
 double mechanical_energy(const RingFrame& frame, const Metrics& metrics, const Scene& scene,
                          const std::vector<double>& mass) {
   double potential = 0.0;
-  for (int i = 0; i < frame.size(); ++i) potential -= mass[i] * scene.gravity.dot(frame.position.col(i));
+  for (int i = 0; i < frame.size(); ++i)
+    potential -= mass[i] * scene.gravity.dot(frame.position.col(i));
   return metrics.kinetic_energy + potential;
 }
 
 // energy scale of the scene: every ring falling across the rest layout's extent once
 double energy_scale(const Scene& scene, const Weave& weave) {
-  const Vec3 extent = weave.rest_position.rowwise().maxCoeff() - weave.rest_position.rowwise().minCoeff();
+  const Vec3 extent =
+      weave.rest_position.rowwise().maxCoeff() - weave.rest_position.rowwise().minCoeff();
   const double size = std::max(extent.norm(), scene.ring.centre_radius);
   double total = 0.0;
   for (double m : ring_masses(scene, weave)) total += m;
@@ -59,7 +61,8 @@ std::vector<std::string> select_backends(const Scene& scene,
   const bool all = requested.size() == 1 && requested[0] == "all";
   if (all || requested.empty()) {
     for (const auto& info : backend_registry()) {
-      if (all || scene.backends.empty() || scene.backends.contains(info.name)) names.push_back(info.name);
+      if (all || scene.backends.empty() || scene.backends.contains(info.name))
+        names.push_back(info.name);
     }
     return names;
   }
@@ -87,8 +90,7 @@ BackendRun run_backend(const Scene& scene, const Weave& weave, const std::string
   backend->reset(scene, weave, run.knobs);
 
   const long long total_steps = std::max(1LL, std::llround(scene.duration / run.dt));
-  const long long steps_per_sample =
-      std::max(1LL, std::llround(scene.sample_interval / run.dt));
+  const long long steps_per_sample = std::max(1LL, std::llround(scene.sample_interval / run.dt));
   MetricOptions metric_options;
   metric_options.other_pairs = options.other_pair_metrics;
   const double scale = energy_scale(scene, weave);
@@ -147,7 +149,8 @@ BackendRun run_backend(const Scene& scene, const Weave& weave, const std::string
 
     // watchdog and progress, by wall clock
     const double elapsed = seconds_since(started);
-    if (options.max_wall_seconds > 0.0 && elapsed > options.max_wall_seconds && step < total_steps) {
+    if (options.max_wall_seconds > 0.0 && elapsed > options.max_wall_seconds &&
+        step < total_steps) {
       run.stable = false;
       run.verdict = "watchdog";
       if (run.samples.back().t < run.dt * step) sample(step);
@@ -265,7 +268,8 @@ std::vector<RingFrame> reference_frames(const Scene& scene, const Weave& weave,
   const std::string path = options.cache_dir.empty()
                                ? ""
                                : options.cache_dir + "/" + scene.name + "-" + scene.reference +
-                                     "-" + scene_content_hash(reference_scene, scene.reference) + ".bin";
+                                     "-" + scene_content_hash(reference_scene, scene.reference) +
+                                     ".bin";
   std::vector<RingFrame> frames;
   if (!path.empty() && load_cached(path, frames, weave.size())) return frames;
   RunOptions quiet = options;
@@ -303,7 +307,8 @@ SceneRun run_scene(const Scene& scene, const RunOptions& options) {
   for (auto& run : result.runs) {
     for (size_t k = 0; k < run.samples.size() && k < run.frames.size(); ++k) {
       if (run.samples[k].metrics.non_finite > 0) continue;
-      run.samples[k].metrics.drape_rms = drape_rms(run.frames[k], nearest(reference, run.frames[k].t));
+      run.samples[k].metrics.drape_rms =
+          drape_rms(run.frames[k], nearest(reference, run.frames[k].t));
     }
   }
   return result;

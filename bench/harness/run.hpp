@@ -21,7 +21,7 @@ struct RunOptions {
   bool progress = true;               // progress line on stderr for runs longer than a second
   double max_wall_seconds = 0.0;      // watchdog per backend run; 0 = none
   std::string cache_dir;              // reference runs cached here by scene hash; empty = no cache
-  bool other_pair_metrics = true;     // penetrating_other / false_links (broad phase over all rings)
+  bool other_pair_metrics = true;  // penetrating_other / false_links (broad phase over all rings)
 };
 
 struct Sample {
@@ -40,7 +40,7 @@ struct BackendRun {
   std::string verdict = "stable";  // or the instability that ended the run
   std::uint64_t hash = 0;          // frame_hash of the final frame
   std::vector<Sample> samples;
-  std::vector<RingFrame> frames;   // one per sample when keep_frames
+  std::vector<RingFrame> frames;  // one per sample when keep_frames
   RingFrame final_frame;
   std::map<std::string, StageStats> stages;
   std::optional<double> catenary_error;  // chains pinned at both ends: sag against the catenary
@@ -60,7 +60,8 @@ struct SceneRun {
 };
 
 // the backends a run uses: explicit list ("all" = every backend), else those the scene configures
-std::vector<std::string> select_backends(const Scene& scene, const std::vector<std::string>& requested);
+std::vector<std::string> select_backends(const Scene& scene,
+                                         const std::vector<std::string>& requested);
 
 // one backend over the scene's duration; never throws for an unstable simulation
 BackendRun run_backend(const Scene& scene, const Weave& weave, const std::string& backend,

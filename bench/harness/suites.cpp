@@ -74,7 +74,8 @@ std::string plotting_python() {
   return "";
 }
 
-std::optional<double> catenary_error(const Scene& scene, const Weave& weave, const RingFrame& frame) {
+std::optional<double> catenary_error(const Scene& scene, const Weave& weave,
+                                     const RingFrame& frame) {
   if (weave.type != WeaveType::chain) return std::nullopt;
   const std::vector<int> pins = resolve_pins(scene, weave);
   const int n = weave.size();
@@ -156,12 +157,14 @@ int sweep_command(const SweepCommand& command) {
     }
   }
 
-  const std::string out = command.out_dir.empty() ? "results/" + base.name + "/sweep" : command.out_dir;
+  const std::string out =
+      command.out_dir.empty() ? "results/" + base.name + "/sweep" : command.out_dir;
   const std::string exe = command.executable.empty() ? "chainmail" : command.executable;
   auto job_line = [&](size_t k) {
-    std::string line = shell_quote(exe) + " run " + shell_quote(command.scene_file) + " --backends " +
-                       points[k].backend + " --out " + shell_quote(out + "/points/" + std::to_string(k)) +
-                       " --cache " + shell_quote(command.cache_dir) + " --quiet";
+    std::string line = shell_quote(exe) + " run " + shell_quote(command.scene_file) +
+                       " --backends " + points[k].backend + " --out " +
+                       shell_quote(out + "/points/" + std::to_string(k)) + " --cache " +
+                       shell_quote(command.cache_dir) + " --quiet";
     for (const auto& s : points[k].sets) line += " --set " + shell_quote(s);
     return line;
   };
@@ -171,9 +174,9 @@ int sweep_command(const SweepCommand& command) {
   }
 
   // every point is measured against the base scene's reference run, whatever the point's knobs
-  const double reference_dt =
-      base.reference_dt > 0.0 ? base.reference_dt
-                              : resolve_knobs(base, *find_backend(base.reference)).at("dt");
+  const double reference_dt = base.reference_dt > 0.0
+                                  ? base.reference_dt
+                                  : resolve_knobs(base, *find_backend(base.reference)).at("dt");
   for (auto& p : points) p.sets.push_back("reference_dt=" + csv_number(reference_dt));
 
   // the reference run once, before the points share it through the cache
@@ -186,7 +189,8 @@ int sweep_command(const SweepCommand& command) {
   std::mutex print;
   std::atomic<int> done{0};
   run_parallel(static_cast<int>(points.size()), command.jobs, [&](int k) {
-    const std::string line = job_line(k) + " >" + shell_quote(out + "/points/" + std::to_string(k) + ".log") + " 2>&1";
+    const std::string line =
+        job_line(k) + " >" + shell_quote(out + "/points/" + std::to_string(k) + ".log") + " 2>&1";
     std::system(line.c_str());
     std::lock_guard<std::mutex> lock(print);
     if (command.progress) std::fprintf(stderr, "  sweep point %d / %zu\n", ++done, points.size());
@@ -211,7 +215,8 @@ int sweep_command(const SweepCommand& command) {
     }
     const json& b = summary["backends"][p.backend];
     const double duration = summary["scene"]["duration"].get<double>();
-    const double error = b["final"].contains("drape_rms") ? b["final"]["drape_rms"].get<double>() : NAN;
+    const double error =
+        b["final"].contains("drape_rms") ? b["final"]["drape_rms"].get<double>() : NAN;
     const double cat = b.contains("catenary_error") ? b["catenary_error"].get<double>() : NAN;
     csv << ',' << csv_number(b["wall_s"].get<double>() / duration) << ','
         << csv_number(b["ms_per_step"].get<double>()) << ',' << csv_number(error) << ','
@@ -221,7 +226,8 @@ int sweep_command(const SweepCommand& command) {
   }
   write_file_atomic(out + "/sweep.csv", csv.str());
   make_plot("plot_sweep.py", {out + "/sweep.csv", out + "/sweep.png", base.name});
-  std::fprintf(stderr, "wrote %s/sweep.csv (%zu points, %d unstable)\n", out.c_str(), points.size(), unstable);
+  std::fprintf(stderr, "wrote %s/sweep.csv (%zu points, %d unstable)\n", out.c_str(), points.size(),
+               unstable);
   return kExitOk;
 }
 
@@ -242,8 +248,12 @@ struct StabilityCase {
 
 json sheet_scene(const std::string& name, int size, bool hanging) {
   json scene = {{"name", name},
-                {"weave", {{"type", "4in1"}, {"rows", size}, {"cols", size},
-                           {"plane", hanging ? "xy" : "xz"}, {"center", {0, 0.1, 0}}}},
+                {"weave",
+                 {{"type", "4in1"},
+                  {"rows", size},
+                  {"cols", size},
+                  {"plane", hanging ? "xy" : "xz"},
+                  {"center", {0, 0.1, 0}}}},
                 {"duration", 0.3},
                 {"sample_interval", 0.05},
                 {"features", {{"self_contact", true}}}};
@@ -257,7 +267,8 @@ std::vector<StabilityCase> stability_cases(bool quick) {
   {
     json s = sheet_scene("heavy_weight", size, true);
     s["loads"] = json::array({{{"ring", {size - 1, size / 2}}, {"mass_factor", 100.0}}});
-    cases.push_back({"heavy_weight", "a ring 100x heavier hanging from the bottom of a curtain", s, {}});
+    cases.push_back(
+        {"heavy_weight", "a ring 100x heavier hanging from the bottom of a curtain", s, {}});
   }
   {
     json s = sheet_scene("impact", size, false);
@@ -273,7 +284,8 @@ std::vector<StabilityCase> stability_cases(bool quick) {
     json s = sheet_scene("large_dt", size, true);
     for (const auto& info : backend_registry()) {
       for (const auto& knob : info.knobs) {
-        if (knob.name == "dt") s["backends"][info.name] = {{"dt", std::min(knob.max, 10.0 * knob.default_value)}};
+        if (knob.name == "dt")
+          s["backends"][info.name] = {{"dt", std::min(knob.max, 10.0 * knob.default_value)}};
       }
     }
     cases.push_back({"large_dt", "a curtain at ten times each backend's default dt", s, {}});
@@ -295,12 +307,18 @@ std::vector<StabilityCase> stability_cases(bool quick) {
   }
   {
     json s = sheet_scene("corners_pushed", size, false);
-    s["pins"] = json::array({{{"corner", "top_left"}}, {{"corner", "top_right"}},
-                             {{"corner", "bottom_left"}}, {{"corner", "bottom_right"}}});
-    s["colliders"] = json::array({{{"type", "sphere"}, {"center", {0, 0.1 - 0.02, 0}}, {"radius", 0.03}}});
+    s["pins"] = json::array({{{"corner", "top_left"}},
+                             {{"corner", "top_right"}},
+                             {{"corner", "bottom_left"}},
+                             {{"corner", "bottom_right"}}});
+    s["colliders"] =
+        json::array({{{"type", "sphere"}, {"center", {0, 0.1 - 0.02, 0}}, {"radius", 0.03}}});
     s["stability"] = {{"links_must_hold", true}};
-    cases.push_back({"corners_pushed",
-                     "a sheet pinned at its corners and pushed up from below (the paper's failure case)", s, {}});
+    cases.push_back(
+        {"corners_pushed",
+         "a sheet pinned at its corners and pushed up from below (the paper's failure case)",
+         s,
+         {}});
   }
   for (double ks : {500.0, 5000.0, 50000.0, 500000.0}) {
     json s = sheet_scene("stiff_springs", size, true);
@@ -315,7 +333,8 @@ std::vector<StabilityCase> stability_cases(bool quick) {
 
 struct DtSearch {
   double largest = 0.0;
-  std::string bound = "=";  // "=" found, ">=" stable at the top of the range, "<" unstable at the bottom
+  std::string bound =
+      "=";  // "=" found, ">=" stable at the top of the range, "<" unstable at the bottom
 };
 
 // largest stable dt by bisection in log space around the case's own dt
@@ -362,24 +381,30 @@ int stability_command(const StabilityCommand& command) {
   std::ostringstream csv, md;
   csv << "case,backend,dt,verdict,largest_stable_dt,bound,max_stretch,broken_links,"
          "penetrating_linked,false_links,max_speed,ms_per_step\n";
-  md << "# Stability suite\n\nEach case runs every backend at its default knobs (the verdict), then "
+  md << "# Stability suite\n\nEach case runs every backend at its default knobs (the verdict), "
+        "then "
         "bisects for the largest stable dt (log-space, 3 steps; `>=` = stable at the top of the "
         "searched range, `<` = unstable at the bottom).\n\n"
-        "| case | backend | dt (s) | verdict | largest stable dt (s) | max_stretch | broken_links | "
+        "| case | backend | dt (s) | verdict | largest stable dt (s) | max_stretch | broken_links "
+        "| "
         "penetrating_linked | max_speed (m/s) |\n|---|---|---|---|---|---|---|---|---|\n";
   int unstable = 0;
   for (const StabilityCase& c : stability_cases(command.quick)) {
     const Scene scene = scene_from_json(c.scene, "stability/" + c.name);
     const Weave weave = make_weave(scene.weave, scene.ring);
     std::vector<std::string> names =
-        c.only.empty() ? select_backends(scene, command.backends.empty() ? std::vector<std::string>{"all"} : command.backends)
-                       : c.only;
+        c.only.empty()
+            ? select_backends(scene, command.backends.empty() ? std::vector<std::string>{"all"}
+                                                              : command.backends)
+            : c.only;
     for (const auto& name : names) {
       if (!c.only.empty() && !command.backends.empty() &&
-          std::find(command.backends.begin(), command.backends.end(), name) == command.backends.end()) {
+          std::find(command.backends.begin(), command.backends.end(), name) ==
+              command.backends.end()) {
         continue;
       }
-      if (command.progress) std::fprintf(stderr, "stability: %-16s %s\n", c.name.c_str(), name.c_str());
+      if (command.progress)
+        std::fprintf(stderr, "stability: %-16s %s\n", c.name.c_str(), name.c_str());
       BackendRun run;
       try {
         run = run_backend(scene, weave, name, options);
@@ -395,15 +420,17 @@ int stability_command(const StabilityCommand& command) {
           << m.broken_links << ',' << m.penetrating_linked << ',' << m.false_links << ','
           << csv_number(m.max_speed) << ',' << csv_number(run.ms_per_step()) << '\n';
       char line[512];
-      std::snprintf(line, sizeof line, "| %s | %s | %g | %s | %s %g | %.3f | %lld | %lld | %.3g |\n",
-                    c.name.c_str(), name.c_str(), run.dt, run.verdict.c_str(),
+      std::snprintf(line, sizeof line,
+                    "| %s | %s | %g | %s | %s %g | %.3f | %lld | %lld | %.3g |\n", c.name.c_str(),
+                    name.c_str(), run.dt, run.verdict.c_str(),
                     dt.bound == "=" ? "" : dt.bound.c_str(), dt.largest, m.max_stretch,
                     m.broken_links, m.penetrating_linked, m.max_speed);
       md << line;
     }
   }
   md << "\nCases:\n\n";
-  for (const StabilityCase& c : stability_cases(command.quick)) md << "- `" << c.name << "`: " << c.description << "\n";
+  for (const StabilityCase& c : stability_cases(command.quick))
+    md << "- `" << c.name << "`: " << c.description << "\n";
   write_file_atomic(command.out_dir + "/stability.csv", csv.str());
   write_file_atomic(command.out_dir + "/stability.md", md.str());
   std::fprintf(stderr, "wrote %s/stability.{csv,md} (%d unstable at default settings)\n",
@@ -425,13 +452,16 @@ int bench_command(const BenchCommand& command) {
   };
   const std::string scenes = source_dir() + "/bench/scenes/";
   const std::vector<BenchScene> set = {
-      {"curtain.json", {"weave.rows=10", "weave.cols=10", "duration=1.0"},
+      {"curtain.json",
+       {"weave.rows=10", "weave.cols=10", "duration=1.0"},
        {"weave.rows=4", "weave.cols=4", "duration=0.05"}},
-      {"table_cloth.json", {"weave.rows=10", "weave.cols=10", "duration=0.8",
-                            "colliders.0.radius=0.025", "support.radius=0.025"},
+      {"table_cloth.json",
+       {"weave.rows=10", "weave.cols=10", "duration=0.8", "colliders.0.radius=0.025",
+        "support.radius=0.025"},
        {"weave.rows=4", "weave.cols=4", "duration=0.05"}},
-      {"sphere_drape.json", {"weave.rows=10", "weave.cols=10", "duration=0.8",
-                             "colliders.0.radius=0.03", "colliders.0.center=[0,0.12,0]"},
+      {"sphere_drape.json",
+       {"weave.rows=10", "weave.cols=10", "duration=0.8", "colliders.0.radius=0.03",
+        "colliders.0.center=[0,0.12,0]"},
        {"weave.rows=4", "weave.cols=4", "duration=0.05"}},
       {"chain_catenary.json", {"weave.cols=30", "duration=2.0"}, {"weave.cols=8", "duration=0.05"}},
       {"chain_pile.json", {"weave.cols=20", "duration=0.8"}, {"weave.cols=6", "duration=0.05"}},
@@ -451,19 +481,22 @@ int bench_command(const BenchCommand& command) {
   std::ostringstream timing, metrics, timing_csv;
   timing << "# Timing\n\nms per step (wall time inside `step()` only), real-time factor "
             "(simulated / wall seconds) and cost per simulated second relative to `plausible`.\n\n"
-            "| scene | rings | backend | dt (s) | ms/step | real-time factor | cost vs plausible | verdict |\n"
+            "| scene | rings | backend | dt (s) | ms/step | real-time factor | cost vs plausible | "
+            "verdict |\n"
             "|---|---|---|---|---|---|---|---|\n";
   timing_csv << "scene,rings,backend,dt,steps,ms_per_step,realtime_factor,verdict,hash\n";
   metrics << "# Final metrics\n\n`drape_rms` against each scene's reference backend (mm); "
              "`catenary` is the chain's sag error against the analytic catenary.\n\n"
-             "| scene | backend | max_stretch | mean_stretch | penetrating_linked | penetrating_other | "
+             "| scene | backend | max_stretch | mean_stretch | penetrating_linked | "
+             "penetrating_other | "
              "broken_links | false_links | drape_rms (mm) | drape_coefficient | catenary |\n"
              "|---|---|---|---|---|---|---|---|---|---|---|\n";
   bool all_stable = true;
   for (const BenchScene& b : set) {
     const Scene scene = load_scene_file(scenes + b.file, command.quick ? b.quick : b.full);
     RunOptions options;
-    options.backends = command.backends.empty() ? std::vector<std::string>{"all"} : command.backends;
+    options.backends =
+        command.backends.empty() ? std::vector<std::string>{"all"} : command.backends;
     options.progress = command.progress;
     options.cache_dir = out + "/.cache";
     const SceneRun run = run_scene(scene, options);
@@ -488,23 +521,24 @@ int bench_command(const BenchCommand& command) {
     for (const auto& r : run.runs) {
       char line[512];
       const double relative = plausible_cost > 0 ? (r.ms_per_step() / r.dt) / plausible_cost : NAN;
-      std::snprintf(line, sizeof line, "| %s | %d | %s | %g | %.3f | %.2f | %s | %s |\n",
-                    scene.name.c_str(), run.weave.size(), r.name.c_str(), r.dt, r.ms_per_step(),
-                    r.realtime_factor(), std::isnan(relative) ? "-" : (csv_number(relative) + "x").c_str(),
-                    r.verdict.c_str());
+      std::snprintf(
+          line, sizeof line, "| %s | %d | %s | %g | %.3f | %.2f | %s | %s |\n", scene.name.c_str(),
+          run.weave.size(), r.name.c_str(), r.dt, r.ms_per_step(), r.realtime_factor(),
+          std::isnan(relative) ? "-" : (csv_number(relative) + "x").c_str(), r.verdict.c_str());
       timing << line;
-      timing_csv << scene.name << ',' << run.weave.size() << ',' << r.name << ',' << csv_number(r.dt)
-                 << ',' << r.steps << ',' << csv_number(r.ms_per_step()) << ','
+      timing_csv << scene.name << ',' << run.weave.size() << ',' << r.name << ','
+                 << csv_number(r.dt) << ',' << r.steps << ',' << csv_number(r.ms_per_step()) << ','
                  << csv_number(r.realtime_factor()) << ',' << r.verdict << ',' << std::hex << r.hash
                  << std::dec << '\n';
       const Metrics& m = r.final_metrics();
-      std::snprintf(line, sizeof line,
-                    "| %s | %s | %.4f | %.4f | %lld | %lld | %lld | %lld | %s | %s | %s |\n",
-                    scene.name.c_str(), r.name.c_str(), m.max_stretch, m.mean_stretch,
-                    m.penetrating_linked, m.penetrating_other, m.broken_links, m.false_links,
-                    m.drape_rms ? csv_number(1e3 * *m.drape_rms).c_str() : "-",
-                    m.drape_coefficient ? csv_number(*m.drape_coefficient).c_str() : "-",
-                    r.catenary_error ? (csv_number(100.0 * *r.catenary_error) + " %").c_str() : "-");
+      std::snprintf(
+          line, sizeof line,
+          "| %s | %s | %.4f | %.4f | %lld | %lld | %lld | %lld | %s | %s | %s |\n",
+          scene.name.c_str(), r.name.c_str(), m.max_stretch, m.mean_stretch, m.penetrating_linked,
+          m.penetrating_other, m.broken_links, m.false_links,
+          m.drape_rms ? csv_number(1e3 * *m.drape_rms).c_str() : "-",
+          m.drape_coefficient ? csv_number(*m.drape_coefficient).c_str() : "-",
+          r.catenary_error ? (csv_number(100.0 * *r.catenary_error) + " %").c_str() : "-");
       metrics << line;
     }
   }
@@ -515,9 +549,11 @@ int bench_command(const BenchCommand& command) {
   // error against run time: the curtain over each backend's dt
   SweepCommand sweep;
   sweep.scene_file = scenes + "curtain.json";
-  sweep.overrides = command.quick ? std::vector<std::string>{"weave.rows=4", "weave.cols=4", "duration=0.05"}
-                                  : std::vector<std::string>{"weave.rows=6", "weave.cols=6", "duration=0.5"};
-  sweep.vary = {command.quick ? "backends.{backend}.dt=0.004,0.002" : "backends.{backend}.dt=0.008,0.004,0.002,0.001,0.0005"};
+  sweep.overrides = command.quick
+                        ? std::vector<std::string>{"weave.rows=4", "weave.cols=4", "duration=0.05"}
+                        : std::vector<std::string>{"weave.rows=6", "weave.cols=6", "duration=0.5"};
+  sweep.vary = {command.quick ? "backends.{backend}.dt=0.004,0.002"
+                              : "backends.{backend}.dt=0.008,0.004,0.002,0.001,0.0005"};
   sweep.backends = command.backends.empty() ? std::vector<std::string>{"all"} : command.backends;
   sweep.out_dir = out + "/sweep";
   sweep.jobs = command.jobs;
@@ -536,23 +572,25 @@ int bench_command(const BenchCommand& command) {
   stability_command(stability);
 
   std::ostringstream readme;
-  readme << "# Results of `chainmail bench`\n\n"
-            "Regenerate with `./scripts/bench.sh` (or `chainmail bench --out results`). Every scene "
-            "runs through every backend from the same rest layout; numbers below come from one "
-            "run on the machine that produced them (2 cores), so compare ratios, not absolutes.\n\n"
-            "- `timing.md` / `timing.csv` — ms per step, real-time factor, cost relative to "
-            "`plausible`, verdict and final-frame hash for each scene and backend.\n"
-            "- `metrics.md` — final metrics: stretch (centre distance / inner diameter; above 1 is "
-            "impossible for real rings), interpenetrating pairs among neighbours and others, broken "
-            "and false links, drape error against the reference backend, Cusick drape coefficient "
-            "(table_cloth), catenary sag error (chain_catenary).\n"
-            "- `<scene>/` — each scene's `summary.json`, `metrics.csv` (every sample), `table.md` and "
-            "`images/` (the final frame of every backend side by side, when rendering is available).\n"
-            "- `sweep/` — error against run time: the curtain at a range of dt per backend; "
-            "`sweep.csv` and `sweep.png` (log-log, Pareto front marked).\n"
-            "- `stability/` — the stiff and extreme cases: verdict at default settings and the "
-            "largest stable dt found by bisection.\n";
-  const double minutes = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() / 60.0;
+  readme
+      << "# Results of `chainmail bench`\n\n"
+         "Regenerate with `./scripts/bench.sh` (or `chainmail bench --out results`). Every scene "
+         "runs through every backend from the same rest layout; numbers below come from one "
+         "run on the machine that produced them (2 cores), so compare ratios, not absolutes.\n\n"
+         "- `timing.md` / `timing.csv` — ms per step, real-time factor, cost relative to "
+         "`plausible`, verdict and final-frame hash for each scene and backend.\n"
+         "- `metrics.md` — final metrics: stretch (centre distance / inner diameter; above 1 is "
+         "impossible for real rings), interpenetrating pairs among neighbours and others, broken "
+         "and false links, drape error against the reference backend, Cusick drape coefficient "
+         "(table_cloth), catenary sag error (chain_catenary).\n"
+         "- `<scene>/` — each scene's `summary.json`, `metrics.csv` (every sample), `table.md` and "
+         "`images/` (the final frame of every backend side by side, when rendering is available).\n"
+         "- `sweep/` — error against run time: the curtain at a range of dt per backend; "
+         "`sweep.csv` and `sweep.png` (log-log, Pareto front marked).\n"
+         "- `stability/` — the stiff and extreme cases: verdict at default settings and the "
+         "largest stable dt found by bisection.\n";
+  const double minutes =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() / 60.0;
   char took[96];
   std::snprintf(took, sizeof took, "\nThis bench took %.1f minutes.\n", minutes);
   readme << took;

@@ -14,14 +14,15 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 Scene small_curtain(double duration = 0.2) {
-  return scene_from_json(json{{"name", "small_curtain"},
-                              {"weave", {{"type", "4in1"}, {"rows", 6}, {"cols", 6}, {"plane", "xy"}}},
-                              {"pins", json::array({{{"edge", "top"}}})},
-                              {"duration", duration},
-                              {"sample_interval", 0.05},
-                              {"reference", "plausible"},
-                              {"backends", {{"plausible", json::object()}}}},
-                         "test");
+  return scene_from_json(
+      json{{"name", "small_curtain"},
+           {"weave", {{"type", "4in1"}, {"rows", 6}, {"cols", 6}, {"plane", "xy"}}},
+           {"pins", json::array({{{"edge", "top"}}})},
+           {"duration", duration},
+           {"sample_interval", 0.05},
+           {"reference", "plausible"},
+           {"backends", {{"plausible", json::object()}}}},
+      "test");
 }
 
 RunOptions quiet() {
@@ -85,7 +86,8 @@ TEST(Run, InjectedInstabilityIsReportedNotCrashed) {
   json doc = small_curtain(1.0).resolved;
   doc["weave"] = {{"type", "4in1"}, {"rows", 8}, {"cols", 8}, {"plane", "xz"}};
   doc["pins"] = json::array();
-  doc["backends"] = {{"plausible", {{"dt", 0.05}, {"repulsion_stiffness", 1e6}, {"repulsion_fraction", 1.5}}}};
+  doc["backends"] = {
+      {"plausible", {{"dt", 0.05}, {"repulsion_stiffness", 1e6}, {"repulsion_fraction", 1.5}}}};
   const Scene scene = scene_from_json(doc, "test");
   const SceneRun run = run_scene(scene, quiet());
   ASSERT_EQ(run.runs.size(), 1u);
@@ -124,7 +126,8 @@ TEST(Run, ContractFilesWritten) {
   EXPECT_TRUE(fs::exists(dir / "table.md"));
   // nothing left behind from the staging folder
   for (const auto& e : fs::directory_iterator(dir.parent_path())) {
-    EXPECT_EQ(e.path().filename().string().find("chainmail_test_contract.partial"), std::string::npos);
+    EXPECT_EQ(e.path().filename().string().find("chainmail_test_contract.partial"),
+              std::string::npos);
   }
 }
 

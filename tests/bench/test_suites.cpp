@@ -20,7 +20,9 @@ int count_lines(const fs::path& path) {
   return lines;
 }
 
-std::string chainmail_binary() { return CHAINMAIL_BINARY_DIR "/bench/chainmail"; }
+std::string chainmail_binary() {
+  return CHAINMAIL_BINARY_DIR "/bench/chainmail";
+}
 
 TEST(Stages, WhatASceneLeavesOutNeverRuns) {
   // no colliders -> no collision stage; no self-contact -> no spatial hash
@@ -123,11 +125,11 @@ TEST(Bench, QuickModeWritesEveryResultsFile) {
   bench.render = false;
   bench.progress = false;
   ASSERT_EQ(bench_command(bench), kExitOk);
-  for (const char* file : {"README.md", "timing.md", "timing.csv", "metrics.md", "sweep/sweep.csv",
-                           "stability/stability.md", "stability/stability.csv",
-                           "curtain/summary.json", "table_cloth/metrics.csv",
-                           "chain_catenary/table.md", "chain_pile/summary.json",
-                           "sphere_drape/summary.json"}) {
+  for (const char* file :
+       {"README.md", "timing.md", "timing.csv", "metrics.md", "sweep/sweep.csv",
+        "stability/stability.md", "stability/stability.csv", "curtain/summary.json",
+        "table_cloth/metrics.csv", "chain_catenary/table.md", "chain_pile/summary.json",
+        "sphere_drape/summary.json"}) {
     EXPECT_TRUE(fs::exists(out / file)) << file;
   }
   EXPECT_EQ(count_lines(out / "timing.csv"), 1 + 5);  // five scenes, one backend

@@ -32,10 +32,10 @@ double brute_distance(const Circle& a, const Circle& b, int samples = 3000) {
 
 TEST(PointCircleDistance, HandCases) {
   const Circle c = circle(Vec3::Zero(), Vec3::UnitY(), 2.0);
-  EXPECT_NEAR(point_circle_distance(Vec3::Zero(), c), 2.0, 1e-15);               // centre
-  EXPECT_NEAR(point_circle_distance(Vec3(0, 1, 0), c), std::sqrt(5.0), 1e-15);   // on the axis
-  EXPECT_NEAR(point_circle_distance(Vec3(3, 0, 0), c), 1.0, 1e-15);              // in plane, outside
-  EXPECT_NEAR(point_circle_distance(Vec3(2, 0.5, 0), c), 0.5, 1e-15);            // above the wire
+  EXPECT_NEAR(point_circle_distance(Vec3::Zero(), c), 2.0, 1e-15);              // centre
+  EXPECT_NEAR(point_circle_distance(Vec3(0, 1, 0), c), std::sqrt(5.0), 1e-15);  // on the axis
+  EXPECT_NEAR(point_circle_distance(Vec3(3, 0, 0), c), 1.0, 1e-15);             // in plane, outside
+  EXPECT_NEAR(point_circle_distance(Vec3(2, 0.5, 0), c), 0.5, 1e-15);           // above the wire
 }
 
 TEST(CircleCircleDistance, CoplanarDisjointIsGap) {

@@ -14,8 +14,12 @@ using json = nlohmann::json;
 
 Scene curtain(int rows, int cols) {
   return scene_from_json(json{{"name", "curtain"},
-                              {"weave", {{"type", "4in1"}, {"rows", rows}, {"cols", cols},
-                                         {"plane", "xy"}, {"center", {0, 0.3, 0}}}},
+                              {"weave",
+                               {{"type", "4in1"},
+                                {"rows", rows},
+                                {"cols", cols},
+                                {"plane", "xy"},
+                                {"center", {0, 0.3, 0}}}},
                               {"pins", json::array({{{"edge", "top"}}})},
                               {"duration", 1.0}},
                          "test");
@@ -77,9 +81,10 @@ TEST(Plausible, PinnedRingsNeverMove) {
 }
 
 TEST(Plausible, FreeFallWithoutConstraintsMatchesHalfGTSquared) {
-  const Scene scene = scene_from_json(
-      json{{"name", "drop"}, {"weave", {{"type", "4in1"}, {"rows", 1}, {"cols", 1}}}, {"duration", 1.0}},
-      "test");
+  const Scene scene = scene_from_json(json{{"name", "drop"},
+                                           {"weave", {{"type", "4in1"}, {"rows", 1}, {"cols", 1}}},
+                                           {"duration", 1.0}},
+                                      "test");
   const Weave weave = make_weave(scene.weave, scene.ring);
   PlausibleSettings settings;
   settings.damping = 0.0;
@@ -98,8 +103,14 @@ TEST(Plausible, FreeFallWithoutConstraintsMatchesHalfGTSquared) {
 TEST(Plausible, SheetDroppedOnPlaneRestsWithoutSinking) {
   const Scene scene = scene_from_json(
       json{{"name", "rest"},
-           {"weave", {{"type", "4in1"}, {"rows", 10}, {"cols", 10}, {"plane", "xz"}, {"center", {0, 0.02, 0}}}},
-           {"colliders", json::array({{{"type", "plane"}, {"point", {0, 0, 0}}, {"normal", {0, 1, 0}}}})},
+           {"weave",
+            {{"type", "4in1"},
+             {"rows", 10},
+             {"cols", 10},
+             {"plane", "xz"},
+             {"center", {0, 0.02, 0}}}},
+           {"colliders",
+            json::array({{{"type", "plane"}, {"point", {0, 0, 0}}, {"normal", {0, 1, 0}}}})},
            {"duration", 1.0}},
       "test");
   const Weave weave = make_weave(scene.weave, scene.ring);
@@ -148,14 +159,17 @@ TEST(Orientation, SwivelFromExtendedToCompressed) {
   Positions stretched = weave.rest_position;
   const double max_link = 0.95 * ring.inner_diameter();
   // scale the layout so neighbours sit exactly at the maximum distance
-  const double rest = (weave.rest_position.col(weave.links[0].a) - weave.rest_position.col(weave.links[0].b)).norm();
+  const double rest =
+      (weave.rest_position.col(weave.links[0].a) - weave.rest_position.col(weave.links[0].b))
+          .norm();
   stretched *= max_link / rest;
   Orientations orientation = weave.rest_orientation;
   orient_rings(stretched, weave, ring, OrientationSettings{max_link, true, 0.0}, orientation);
   Orientations flat = weave.rest_orientation;
   orient_rings(stretched, weave, ring, OrientationSettings{max_link, false, 0.0}, flat);
   const int interior = weave.ring_at_row_col(2, 2);
-  const Quat q(orientation(0, interior), orientation(1, interior), orientation(2, interior), orientation(3, interior));
+  const Quat q(orientation(0, interior), orientation(1, interior), orientation(2, interior),
+               orientation(3, interior));
   const Quat f(flat(0, interior), flat(1, interior), flat(2, interior), flat(3, interior));
   EXPECT_NEAR(q.angularDistance(f), a_over_c, 1e-9);
 }

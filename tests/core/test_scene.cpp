@@ -13,9 +13,8 @@ namespace {
 using json = nlohmann::json;
 
 json minimal_scene() {
-  return json{{"name", "t"},
-              {"weave", {{"type", "4in1"}, {"rows", 4}, {"cols", 5}}},
-              {"duration", 0.1}};
+  return json{
+      {"name", "t"}, {"weave", {{"type", "4in1"}, {"rows", 4}, {"cols", 5}}}, {"duration", 0.1}};
 }
 
 // the message of the SceneError the document raises ("" when it loads)

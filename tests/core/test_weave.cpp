@@ -25,7 +25,8 @@ void expect_valid_rest_layout(const WeaveCase& param) {
   spec.plane = param.plane;
   spec.center = Vec3(0.1, 0.2, 0.3);
   // a chain's second neighbours share a plane: the scene loader enforces spacing >= (c + a) / ID
-  spec.spacing = std::max(0.9, (ring.centre_radius + ring.wire_radius) / ring.inner_diameter() + 0.01);
+  spec.spacing =
+      std::max(0.9, (ring.centre_radius + ring.wire_radius) / ring.inner_diameter() + 0.01);
   const Weave weave = make_weave(spec, ring);
   const int n = weave.size();
   ASSERT_EQ(n, param.type == WeaveType::chain ? param.cols : param.rows * param.cols);
@@ -61,7 +62,9 @@ void expect_valid_rest_layout(const WeaveCase& param) {
 
 class RestLayout : public ::testing::TestWithParam<WeaveCase> {};
 
-TEST_P(RestLayout, NeighboursLinkedOthersClear) { expect_valid_rest_layout(GetParam()); }
+TEST_P(RestLayout, NeighboursLinkedOthersClear) {
+  expect_valid_rest_layout(GetParam());
+}
 
 INSTANTIATE_TEST_SUITE_P(
     Weaves, RestLayout,
@@ -115,10 +118,10 @@ TEST(Weave, LargeSheetTopologyIsConsistent) {
   // the rest layout is translation-invariant: a ring in the middle sees the same neighbourhood
   const int centre = weave.ring_at_row_col(128, 128), corner = weave.ring_at_row_col(2, 2);
   for (int slot = 0; slot < 4; ++slot) {
-    const Vec3 d0 = weave.rest_position.col(weave.neighbours[centre][slot]) -
-                    weave.rest_position.col(centre);
-    const Vec3 d1 = weave.rest_position.col(weave.neighbours[corner][slot]) -
-                    weave.rest_position.col(corner);
+    const Vec3 d0 =
+        weave.rest_position.col(weave.neighbours[centre][slot]) - weave.rest_position.col(centre);
+    const Vec3 d1 =
+        weave.rest_position.col(weave.neighbours[corner][slot]) - weave.rest_position.col(corner);
     EXPECT_NEAR((d0 - d1).norm(), 0.0, 1e-12);
   }
 }
