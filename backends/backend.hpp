@@ -46,6 +46,7 @@ struct BackendInfo {
   std::string name;
   std::string summary;
   std::vector<KnobSpec> knobs;  // must include "dt"
+  bool cloth_surface = false;   // its rings stand for a cloth surface: drawn as a textured mesh
   std::function<std::unique_ptr<Backend>()> create;
 };
 

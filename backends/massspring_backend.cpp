@@ -71,6 +71,7 @@ BackendInfo massspring_backend_info() {
   using T = KnobSpec::Type;
   BackendInfo info;
   info.name = "massspring";
+  info.cloth_surface = true;
   info.summary =
       "mass-spring cloth: structural/shear/bending springs, damped Verlet, 10 % over-extension "
       "correction, surface-following ring orientation";

@@ -1,0 +1,18 @@
+// CPU image helpers of the renderer: panel labels (stb_easy_font), side-by-side composition.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "render/renderer.hpp"
+
+namespace chainmail::render {
+
+// height of the label strip for an image `height` pixels tall
+int label_strip_height(int height);
+// darkens a strip at the top of `image` and writes `text` into it in white
+void draw_label(Image& image, const std::string& text);
+// panels of equal height, left to right
+Image compose_horizontal(const std::vector<Image>& panels);
+
+}  // namespace chainmail::render

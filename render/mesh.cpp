@@ -1,0 +1,336 @@
+#include "render/mesh.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace chainmail::render {
+namespace {
+
+using Eigen::Vector3d;
+constexpr double kPi = std::numbers::pi;
+
+void push(std::vector<float>& out, const Vector3d& v) {
+  out.push_back(static_cast<float>(v.x()));
+  out.push_back(static_cast<float>(v.y()));
+  out.push_back(static_cast<float>(v.z()));
+}
+
+// a coloured vertex of the scene mesh (stride 10)
+struct SceneMeshBuilder {
+  Mesh mesh{10, {}, {}};
+  Vector3d origin;
+  Eigen::Vector4d color;
+
+  std::uint32_t vertex(const Vector3d& p, const Vector3d& n) {
+    const auto index = static_cast<std::uint32_t>(mesh.vertex_count());
+    push(mesh.vertices, p - origin);
+    push(mesh.vertices, n);
+    for (int k = 0; k < 4; ++k) mesh.vertices.push_back(static_cast<float>(color[k]));
+    return index;
+  }
+  void triangle(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    mesh.indices.insert(mesh.indices.end(), {a, b, c});
+  }
+  // flat quad with corners counter-clockwise around n
+  void quad(const Vector3d& a, const Vector3d& b, const Vector3d& c, const Vector3d& d,
+            const Vector3d& n) {
+    const auto i0 = vertex(a, n), i1 = vertex(b, n), i2 = vertex(c, n), i3 = vertex(d, n);
+    triangle(i0, i1, i2);
+    triangle(i0, i2, i3);
+  }
+};
+
+// two unit vectors completing n to an orthonormal basis
+void tangents(const Vector3d& n, Vector3d& t1, Vector3d& t2) {
+  t1 = (std::abs(n.x()) < 0.9 ? Vector3d::UnitX() : Vector3d::UnitY()).cross(n).normalized();
+  t2 = n.cross(t1);
+}
+
+void add_sphere(SceneMeshBuilder& b, const Vector3d& center, double radius) {
+  constexpr int kAround = 32, kUp = 16;
+  const auto first = static_cast<std::uint32_t>(b.mesh.vertex_count());
+  for (int i = 0; i <= kUp; ++i) {
+    const double theta = kPi * i / kUp;
+    for (int k = 0; k <= kAround; ++k) {
+      const double phi = 2.0 * kPi * k / kAround;
+      const Vector3d n(std::sin(theta) * std::cos(phi), std::cos(theta),
+                       std::sin(theta) * std::sin(phi));
+      b.vertex(center + radius * n, n);
+    }
+  }
+  for (int i = 0; i < kUp; ++i) {
+    for (int k = 0; k < kAround; ++k) {
+      const std::uint32_t a = first + i * (kAround + 1) + k, c = a + kAround + 1;
+      b.triangle(a, a + 1, c);
+      b.triangle(a + 1, c + 1, c);
+    }
+  }
+}
+
+void add_box(SceneMeshBuilder& b, const Vector3d& center, const Vector3d& half) {
+  for (int axis = 0; axis < 3; ++axis) {
+    for (double sign : {-1.0, 1.0}) {
+      Vector3d n = Vector3d::Zero();
+      n[axis] = sign;
+      Vector3d u = Vector3d::Zero(), v = Vector3d::Zero();
+      u[(axis + 1) % 3] = half[(axis + 1) % 3];
+      v[(axis + 2) % 3] = half[(axis + 2) % 3];
+      if (sign < 0) std::swap(u, v);
+      const Vector3d f = center + n.cwiseProduct(half);
+      b.quad(f - u - v, f + u - v, f + u + v, f - u + v, n);
+    }
+  }
+}
+
+void add_cylinder(SceneMeshBuilder& b, const Vector3d& center, double radius, double half_height) {
+  constexpr int kAround = 40;
+  const Vector3d up = Vector3d::UnitY();
+  for (int k = 0; k < kAround; ++k) {
+    const double p0 = 2.0 * kPi * k / kAround, p1 = 2.0 * kPi * (k + 1) / kAround;
+    const Vector3d d0(std::cos(p0), 0, std::sin(p0)), d1(std::cos(p1), 0, std::sin(p1));
+    // side (outward normals per vertex, smooth) and the two caps
+    const auto a = b.vertex(center + radius * d0 - half_height * up, d0);
+    const auto c = b.vertex(center + radius * d1 - half_height * up, d1);
+    const auto e = b.vertex(center + radius * d1 + half_height * up, d1);
+    const auto f = b.vertex(center + radius * d0 + half_height * up, d0);
+    b.triangle(a, e, c);
+    b.triangle(a, f, e);
+    const auto top = b.vertex(center + half_height * up, up);
+    const auto t0 = b.vertex(center + radius * d0 + half_height * up, up);
+    const auto t1 = b.vertex(center + radius * d1 + half_height * up, up);
+    b.triangle(top, t1, t0);
+    const auto bottom = b.vertex(center - half_height * up, -up);
+    const auto b0 = b.vertex(center + radius * d0 - half_height * up, -up);
+    const auto b1 = b.vertex(center + radius * d1 - half_height * up, -up);
+    b.triangle(bottom, b0, b1);
+  }
+}
+
+}  // namespace
+
+Mesh torus_mesh(double wire_radius, double centre_radius, int segments_u, int segments_v) {
+  Mesh mesh;
+  mesh.stride = 6;
+  const double a = wire_radius, c = centre_radius;
+  // (segments + 1)^2 vertices: the seams are duplicated so that indices stay simple
+  for (int i = 0; i <= segments_u; ++i) {
+    const double u = 2.0 * kPi * i / segments_u;
+    for (int k = 0; k <= segments_v; ++k) {
+      const double v = 2.0 * kPi * k / segments_v;
+      const Vector3d normal(std::cos(v) * std::cos(u), std::sin(v), std::cos(v) * std::sin(u));
+      const Vector3d position((c + a * std::cos(v)) * std::cos(u), a * std::sin(v),
+                              (c + a * std::cos(v)) * std::sin(u));
+      push(mesh.vertices, position);
+      push(mesh.vertices, normal);
+    }
+  }
+  // (u, v), (u, v+1), (u+1, v) is counter-clockwise seen from outside the tube
+  const int row = segments_v + 1;
+  for (int i = 0; i < segments_u; ++i) {
+    for (int k = 0; k < segments_v; ++k) {
+      const auto p00 = static_cast<std::uint32_t>(i * row + k), p01 = p00 + 1;
+      const auto p10 = static_cast<std::uint32_t>(p00 + row), p11 = p10 + 1;
+      mesh.indices.insert(mesh.indices.end(), {p00, p01, p10, p10, p01, p11});
+    }
+  }
+  return mesh;
+}
+
+int lod_for_pixels(double diameter_pixels) {
+  for (int level = 0; level < kLodLevels - 1; ++level) {
+    if (diameter_pixels >= kLodMinPixels[level]) return level;
+  }
+  return kLodLevels - 1;
+}
+
+double CameraView::focal_pixels(int height) const {
+  return 0.5 * height / std::tan(0.5 * fov_y_rad);
+}
+
+Eigen::Matrix4f CameraView::view_projection(const Vector3d& origin) const {
+  const Vector3d f = forward(), r = right(), u = true_up();
+  const Vector3d e = eye - origin;
+  Eigen::Matrix4d view = Eigen::Matrix4d::Identity();
+  view.row(0) << r.transpose(), -r.dot(e);
+  view.row(1) << u.transpose(), -u.dot(e);
+  view.row(2) << -f.transpose(), f.dot(e);
+  const double t = 1.0 / std::tan(0.5 * fov_y_rad);
+  const double n = near_plane, fa = far_plane;
+  Eigen::Matrix4d projection = Eigen::Matrix4d::Zero();
+  projection(0, 0) = t / aspect;
+  projection(1, 1) = t;
+  projection(2, 2) = -(fa + n) / (fa - n);
+  projection(2, 3) = -2.0 * fa * n / (fa - n);
+  projection(3, 2) = -1.0;
+  return (projection * view).cast<float>();
+}
+
+void Bounds::add(const Vector3d& p) {
+  if (!p.allFinite()) return;
+  min = min.cwiseMin(p);
+  max = max.cwiseMax(p);
+}
+
+Bounds frame_bounds(const std::vector<const RingFrame*>& frames) {
+  Bounds bounds;
+  for (const RingFrame* frame : frames) {
+    if (!frame) continue;
+    for (int ring = 0; ring < frame->size(); ++ring) bounds.add(frame->position.col(ring));
+  }
+  return bounds;
+}
+
+CameraView make_camera(const Scene& scene, const Bounds& bounds, double aspect) {
+  CameraView view;
+  view.aspect = aspect;
+  view.fov_y_rad = scene.camera.fov_deg * kPi / 180.0;
+  const double ring_extent = scene.ring.centre_radius + scene.ring.wire_radius;
+  const Vector3d center = bounds.empty() ? scene.weave.center : bounds.center();
+  const double radius = std::max(bounds.radius(), 0.0) + ring_extent;
+
+  if (scene.camera.automatic) {
+    // look down ~30 degrees from the front; back off until every corner of the (ring-padded)
+    // box is inside the view with a margin: for a corner at (x, y) across and z towards the
+    // camera, depth d - z must reach |x| / tan(fov_x / 2) and |y| / tan(fov_y / 2)
+    const Vector3d to_eye = Vector3d(0.0, 0.6, 1.0).normalized();
+    const Vector3d across = Vector3d::UnitY().cross(to_eye).normalized();
+    const Vector3d upward = to_eye.cross(across);
+    const double margin = 0.92;
+    const double tan_y = margin * std::tan(0.5 * view.fov_y_rad), tan_x = tan_y * aspect;
+    double distance = radius;
+    const Vector3d lo = bounds.empty() ? center : Vector3d(bounds.min),
+                   hi = bounds.empty() ? center : Vector3d(bounds.max);
+    for (int corner = 0; corner < 8; ++corner) {
+      const Vector3d p((corner & 1 ? hi.x() : lo.x()) + (corner & 1 ? 1 : -1) * ring_extent,
+                       (corner & 2 ? hi.y() : lo.y()) + (corner & 2 ? 1 : -1) * ring_extent,
+                       (corner & 4 ? hi.z() : lo.z()) + (corner & 4 ? 1 : -1) * ring_extent);
+      const Vector3d r = p - center;
+      const double z = r.dot(to_eye);
+      distance = std::max(
+          {distance, z + std::abs(r.dot(across)) / tan_x, z + std::abs(r.dot(upward)) / tan_y});
+    }
+    view.target = center;
+    view.eye = center + distance * to_eye;
+  } else {
+    view.eye = scene.camera.position;
+    view.target = scene.camera.target;
+  }
+  // world up, unless the camera looks straight up or down
+  const Vector3d forward = (view.target - view.eye).normalized();
+  view.up = Vector3d::UnitY();
+  if (std::abs(forward.y()) > 0.999) view.up = Vector3d(0.0, 0.0, forward.y() < 0 ? -1.0 : 1.0);
+
+  // depth range: everything within a few fabric radii of the fabric's centre
+  const double distance = (view.eye - center).norm();
+  view.near_plane = std::max(distance - 1.5 * radius, 0.005 * distance);
+  view.far_plane = distance + 5.0 * radius;
+  return view;
+}
+
+Mesh cloth_mesh(const RingFrame& frame, const Weave& weave, int subdivisions,
+                const Vector3d& origin) {
+  Mesh mesh;
+  mesh.stride = 8;
+  const int n = std::min(frame.size(), weave.size());
+  const int s = std::max(subdivisions, 1);
+
+  // quads (i, j), (i+1, j), (i+1, j+1), (i, j+1) wherever all four rings exist and are finite
+  std::vector<std::array<int, 4>> quads;
+  auto usable = [&](int ring) {
+    return ring >= 0 && ring < n && frame.position.col(ring).allFinite();
+  };
+  for (int ring = 0; ring < n; ++ring) {
+    const int right = weave.neighbours[ring][1], above = weave.neighbours[ring][3];
+    const int diagonal = right >= 0 ? weave.neighbours[right][3] : -1;
+    if (usable(ring) && usable(right) && usable(diagonal) && usable(above)) {
+      quads.push_back({ring, right, diagonal, above});
+    }
+  }
+
+  // area-weighted vertex normals from the two triangles of every quad
+  std::vector<Vector3d> normals(n, Vector3d::Zero());
+  for (const auto& q : quads) {
+    for (const auto& tri : {std::array<int, 3>{q[0], q[1], q[2]}, {q[0], q[2], q[3]}}) {
+      const Vector3d a = frame.position.col(tri[0]), b = frame.position.col(tri[1]),
+                     c = frame.position.col(tri[2]);
+      const Vector3d face = (b - a).cross(c - a);
+      for (int v : tri) normals[v] += face;
+    }
+  }
+  for (Vector3d& normal : normals) {
+    normal = normal.norm() > 0 ? normal.normalized() : Vector3d::UnitY();
+  }
+
+  // each quad becomes s x s bilinear quads (s = 1: the plain ring-centre mesh)
+  for (const auto& q : quads) {
+    const auto first = static_cast<std::uint32_t>(mesh.vertex_count());
+    for (int y = 0; y <= s; ++y) {
+      for (int x = 0; x <= s; ++x) {
+        const double fx = static_cast<double>(x) / s, fy = static_cast<double>(y) / s;
+        const double w[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), fx * fy, (1 - fx) * fy};
+        Vector3d p = Vector3d::Zero(), nrm = Vector3d::Zero();
+        double ui = 0, uj = 0;
+        for (int k = 0; k < 4; ++k) {
+          p += w[k] * frame.position.col(q[k]);
+          nrm += w[k] * normals[q[k]];
+          ui += w[k] * weave.grid[q[k]][0];
+          uj += w[k] * weave.grid[q[k]][1];
+        }
+        push(mesh.vertices, p - origin);
+        push(mesh.vertices, nrm.norm() > 0 ? nrm.normalized() : Vector3d::UnitY());
+        mesh.vertices.push_back(static_cast<float>(ui));
+        mesh.vertices.push_back(static_cast<float>(uj));
+      }
+    }
+    for (int y = 0; y < s; ++y) {
+      for (int x = 0; x < s; ++x) {
+        const std::uint32_t a = first + y * (s + 1) + x, b = a + 1, d = a + s + 1, c = d + 1;
+        mesh.indices.insert(mesh.indices.end(), {a, b, c, a, c, d});
+      }
+    }
+  }
+  return mesh;
+}
+
+Mesh scene_mesh(const Scene& scene, const Vector3d& origin, const Vector3d& focus, double extent) {
+  SceneMeshBuilder b;
+  b.origin = origin;
+  for (const Collider& collider : scene.colliders) {
+    switch (collider.type) {
+      case Collider::Type::plane: {
+        // a finite square of the plane around the point nearest the fabric, checkered
+        const Vector3d n = collider.normal.normalized();
+        const Vector3d center = focus - n * n.dot(focus - collider.center);
+        Vector3d t1, t2;
+        tangents(n, t1, t2);
+        t1 *= extent, t2 *= extent;
+        b.color = {0.56, 0.56, 0.53, 1.0};
+        b.quad(center - t1 - t2, center + t1 - t2, center + t1 + t2, center - t1 + t2, n);
+        break;
+      }
+      case Collider::Type::sphere:
+        b.color = {0.62, 0.42, 0.36, 0.0};
+        add_sphere(b, collider.center, collider.radius);
+        break;
+      case Collider::Type::box:
+        b.color = {0.42, 0.48, 0.6, 0.0};
+        add_box(b, collider.center, collider.half_extents);
+        break;
+      case Collider::Type::cylinder:
+        b.color = {0.48, 0.56, 0.44, 0.0};
+        add_cylinder(b, collider.center, collider.radius, collider.half_height);
+        break;
+    }
+  }
+  if (scene.support) {
+    // the drape table: a thin disk whose top is the support's centre height
+    const double thickness = 0.02 * scene.support->radius;
+    b.color = {0.52, 0.4, 0.28, 0.0};
+    add_cylinder(b, scene.support->center - Vector3d(0.0, 0.5 * thickness, 0.0),
+                 scene.support->radius, 0.5 * thickness);
+  }
+  return b.mesh;
+}
+
+}  // namespace chainmail::render

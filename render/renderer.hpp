@@ -1,0 +1,81 @@
+// The one rendering path: every backend's RingFrame goes through the same instanced torus renderer,
+// so that differences between panels are differences in physics, never in drawing.
+// Headless OpenGL 3.3 core through OSMesa or EGL surfaceless; all drawing goes into an FBO that is
+// read back with glReadPixels.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/frame.hpp"
+#include "core/scene.hpp"
+#include "core/weave.hpp"
+
+namespace chainmail::render {
+
+struct RenderSettings {
+  int width = 1280, height = 720;  // per panel, pixels
+  int samples = 4;                 // MSAA samples (0/1 = off)
+  bool lod = true;                 // pick the torus resolution per ring from its size on screen
+  std::string context = "auto";    // auto | osmesa | egl (auto tries OSMesa, then EGL)
+  std::string shader_dir;          // empty: beside the executable, then $CHAINMAIL_SHADER_DIR
+  std::string material = "steel";  // steel | gold | copper | brass | bronze | silver | titanium
+  std::string cloth_shader = "blinn_phong";  // blinn_phong | texture | bump | displacement | mirror
+  bool live_blur = false;  // blur the reflection per fragment (13 taps per axis, slow on
+                           // llvmpipe) instead of once into a prefiltered cubemap at start-up
+  bool labels = true;      // label strip at the top of every panel
+
+  // shared libraries to load; empty: the usual sonames (libOSMesa.so.8, ... / libEGL.so.1)
+  std::string osmesa_library;
+  std::string egl_library;
+};
+
+struct Panel {
+  std::string label;  // e.g. the backend name
+  const RingFrame* frame = nullptr;
+  bool as_cloth = false;      // draw the frame as a cloth mesh over the weave grid
+  double ms_per_step = -1.0;  // shown in the label when >= 0
+};
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<unsigned char> rgba;  // width * height * 4, row 0 = top
+};
+
+struct FrameStats {
+  double ms = 0;                 // wall time of the last render() call
+  int instances = 0;             // rings drawn (after frustum culling), all panels
+  std::array<int, 4> per_lod{};  // of those, per level of detail (0 = finest)
+};
+
+class RenderError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Renderer {
+ public:
+  // creates the GL context, compiles every shader and builds the environment map;
+  // throws RenderError (no GL, missing or broken shader, bad setting)
+  static std::unique_ptr<Renderer> create(const RenderSettings& settings);
+  virtual ~Renderer();
+
+  // one image of panels.size() panels side by side (same camera), each settings.width wide
+  virtual Image render(const Scene& scene, const Weave& weave,
+                       const std::vector<Panel>& panels) = 0;
+  virtual const FrameStats& last_stats() const = 0;
+  virtual std::string context_name() const = 0;  // "osmesa" or "egl"
+  virtual std::string gl_renderer() const = 0;   // GL_RENDERER / GL_VERSION, for reports
+};
+
+// PNG through stb_image_write, written to PATH.tmp then renamed; throws RenderError
+void write_png(const Image& image, const std::string& path);
+
+// names accepted by RenderSettings::material and ::cloth_shader
+std::vector<std::string> material_names();
+std::vector<std::string> cloth_shader_names();
+
+}  // namespace chainmail::render

@@ -1,0 +1,104 @@
+// The renderer's CPU geometry: torus winding, level-of-detail choice, camera framing, cloth mesh.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "core/scene.hpp"
+#include "core/weave.hpp"
+#include "render/mesh.hpp"
+
+namespace chainmail::render {
+namespace {
+
+Eigen::Vector3d vertex(const Mesh& mesh, std::uint32_t index, int offset) {
+  const float* v = &mesh.vertices[static_cast<size_t>(index) * mesh.stride + offset];
+  return {v[0], v[1], v[2]};
+}
+
+TEST(RenderMesh, TorusTrianglesFaceOutwardAndLieOnTheTorus) {
+  const double a = 0.0008, c = 0.0048;
+  for (const auto& [u, v] : kLodSegments) {
+    const Mesh mesh = torus_mesh(a, c, u, v);
+    EXPECT_EQ(mesh.indices.size(), static_cast<size_t>(u * v * 6));
+    for (size_t t = 0; t < mesh.indices.size(); t += 3) {
+      const Eigen::Vector3d p0 = vertex(mesh, mesh.indices[t], 0),
+                            p1 = vertex(mesh, mesh.indices[t + 1], 0),
+                            p2 = vertex(mesh, mesh.indices[t + 2], 0);
+      const Eigen::Vector3d n = vertex(mesh, mesh.indices[t], 3) +
+                                vertex(mesh, mesh.indices[t + 1], 3) +
+                                vertex(mesh, mesh.indices[t + 2], 3);
+      ASSERT_GT((p1 - p0).cross(p2 - p0).dot(n), 0.0) << "triangle " << t / 3;
+    }
+    for (int k = 0; k < mesh.vertex_count(); ++k) {
+      const Eigen::Vector3d p = vertex(mesh, k, 0);
+      // distance from the centre circle (radius c in the X/Z plane) is the wire radius
+      const double radial = std::hypot(p.x(), p.z()) - c;
+      ASSERT_NEAR(std::hypot(radial, p.y()), a, 1e-6 * c);
+    }
+  }
+}
+
+TEST(RenderMesh, FinerLevelsForBiggerRings) {
+  EXPECT_EQ(lod_for_pixels(500.0), 0);
+  EXPECT_EQ(lod_for_pixels(1.0), kLodLevels - 1);
+  for (double px = 1.0; px < 200.0; px *= 1.1) {
+    EXPECT_GE(lod_for_pixels(px), lod_for_pixels(px * 1.1));
+  }
+}
+
+Scene grid_scene(int rows, int cols) {
+  return scene_from_json(
+      {{"name", "cloth"},
+       {"ring", {{"wire_diameter", 0.0016}, {"inner_diameter", 0.008}}},
+       {"weave", {{"type", "grid"}, {"rows", rows}, {"cols", cols}, {"spacing", 0.01}}},
+       {"duration", 1.0}},
+      "test");
+}
+
+TEST(RenderMesh, ClothMeshJoinsGridNeighboursIntoQuads) {
+  const Scene scene = grid_scene(3, 4);
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  RingFrame frame;
+  frame.resize(weave.size());
+  frame.position = weave.rest_position;
+  frame.orientation = weave.rest_orientation;
+  const Mesh mesh = cloth_mesh(frame, weave, 1, Eigen::Vector3d::Zero());
+  EXPECT_EQ(mesh.stride, 8);
+  EXPECT_EQ(mesh.indices.size(), static_cast<size_t>((3 - 1) * (4 - 1) * 6));
+  // a flat sheet: every normal is the sheet normal (either side)
+  for (int k = 0; k < mesh.vertex_count(); ++k) {
+    EXPECT_NEAR(std::abs(vertex(mesh, k, 3).dot(weave.normal_axis)), 1.0, 1e-6);
+  }
+  // subdivided for displacement: s^2 quads per quad
+  const Mesh fine = cloth_mesh(frame, weave, 4, Eigen::Vector3d::Zero());
+  EXPECT_EQ(fine.indices.size(), mesh.indices.size() * 16);
+  // a ring gone to NaN drops its quads instead of poisoning the mesh
+  frame.position(0, 0) = std::nan("");
+  EXPECT_LT(cloth_mesh(frame, weave, 1, Eigen::Vector3d::Zero()).indices.size(),
+            mesh.indices.size());
+}
+
+TEST(RenderMesh, AutomaticCameraSeesTheWholeFabricFromAboveAndInFront) {
+  const Scene scene = scene_from_json({{"name", "sheet"},
+                                       {"weave", {{"type", "4in1"}, {"rows", 10}, {"cols", 10}}},
+                                       {"duration", 1.0}},
+                                      "test");
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  RingFrame frame;
+  frame.resize(weave.size());
+  frame.position = weave.rest_position;
+  const Bounds bounds = frame_bounds({&frame});
+  const CameraView camera = make_camera(scene, bounds, 4.0 / 3.0);
+  EXPECT_GT(camera.eye.y(), bounds.center().y());
+  EXPECT_GT(camera.eye.z(), bounds.center().z());
+  const Eigen::Matrix4f vp = camera.view_projection(Eigen::Vector3d::Zero());
+  for (int ring = 0; ring < frame.size(); ++ring) {
+    const Eigen::Vector4f clip =
+        vp * Eigen::Vector4f(frame.position(0, ring), frame.position(1, ring),
+                             frame.position(2, ring), 1.0f);
+    const Eigen::Vector3f ndc = clip.head<3>() / clip.w();
+    EXPECT_LT(ndc.cwiseAbs().maxCoeff(), 1.0f) << "ring " << ring << " off screen";
+  }
+}
+
+}  // namespace
+}  // namespace chainmail::render

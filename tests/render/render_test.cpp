@@ -1,0 +1,300 @@
+// The shared renderer: images of the requested size, rings where rings are, the background through
+// the hole, identical panels for identical frames, clear errors without shaders or without GL.
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <set>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#define STB_IMAGE_STATIC
+#define STB_IMAGE_IMPLEMENTATION
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#endif
+#include <stb/stb_image.h>
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
+
+#include "core/scene.hpp"
+#include "core/weave.hpp"
+#include "render/renderer.hpp"
+
+// Under -DCHAINMAIL_SANITIZE=ON, LeakSanitizer calls this hook: Mesa (OSMesaMakeCurrent, llvmpipe,
+// the EGL driver) keeps a few small per-process allocations that it never frees. Only those
+// libraries are suppressed; leaks in our code are still reported.
+extern "C" const char* __lsan_default_suppressions() {
+  return "leak:libOSMesa.so\nleak:libgallium\nleak:libLLVM\nleak:libEGL_mesa.so\nleak:libglapi."
+         "so\n";
+}
+
+namespace chainmail::render {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kShaderDir = std::string(CHAINMAIL_SOURCE_DIR) + "/shaders";
+
+Scene make_scene(int rows, int cols, const nlohmann::json& camera = nullptr) {
+  nlohmann::json doc = {
+      {"name", "test"},
+      {"ring", {{"wire_diameter", 0.0016}, {"inner_diameter", 0.008}, {"density", 7850.0}}},
+      {"weave", {{"type", "4in1"}, {"rows", rows}, {"cols", cols}}},
+      {"colliders", nlohmann::json::array({{{"type", "plane"}, {"point", {0.0, -0.02, 0.0}}}})},
+      {"duration", 1.0}};
+  if (!camera.is_null()) doc["camera"] = camera;
+  return scene_from_json(doc, "test");
+}
+
+RingFrame rest_frame(const Weave& weave) {
+  RingFrame frame;
+  frame.resize(weave.size());
+  frame.position = weave.rest_position;
+  frame.orientation = weave.rest_orientation;
+  frame.velocity.setZero();
+  return frame;
+}
+
+RenderSettings small_settings() {
+  RenderSettings settings;
+  settings.width = 160;
+  settings.height = 120;
+  settings.shader_dir = kShaderDir;
+  return settings;
+}
+
+const unsigned char* pixel(const Image& image, int x, int y) {
+  return &image.rgba[(static_cast<size_t>(y) * image.width + x) * 4];
+}
+
+int pixel_difference(const Image& a, const Image& b, int x, int y) {
+  int sum = 0;
+  for (int c = 0; c < 3; ++c) sum += std::abs(pixel(a, x, y)[c] - pixel(b, x, y)[c]);
+  return sum;
+}
+
+// a fresh directory under the system temp dir, removed by the destructor
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    path = fs::temp_directory_path() /
+           ("chainmail_render_test_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+};
+
+TEST(Render, KnownFrameWritesPngOfRequestedSize) {
+  const Scene scene = make_scene(6, 6);
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  const RingFrame frame = rest_frame(weave);
+  auto renderer = Renderer::create(small_settings());
+  const Image image = renderer->render(scene, weave, {{"plausible", &frame}});
+  ASSERT_EQ(image.width, 160);
+  ASSERT_EQ(image.height, 120);
+  EXPECT_EQ(renderer->last_stats().instances, 36);
+
+  TempDir dir;
+  const std::string path = (dir.path / "frame.png").string();
+  write_png(image, path);
+  EXPECT_FALSE(fs::exists(path + ".tmp"));
+  int width = 0, height = 0, channels = 0;
+  unsigned char* data = stbi_load(path.c_str(), &width, &height, &channels, 4);
+  ASSERT_NE(data, nullptr);
+  EXPECT_EQ(width, 160);
+  EXPECT_EQ(height, 120);
+  // the PNG holds what render() returned
+  EXPECT_EQ(0, std::memcmp(data, image.rgba.data(), image.rgba.size()));
+  stbi_image_free(data);
+
+  // not a uniform picture: many distinct colours
+  std::set<unsigned> colours;
+  for (size_t i = 0; i < image.rgba.size(); i += 4) {
+    colours.insert(image.rgba[i] << 16 | image.rgba[i + 1] << 8 | image.rgba[i + 2]);
+  }
+  EXPECT_GT(colours.size(), 200u);
+}
+
+TEST(Render, CloseUpShowsWireAndBackgroundThroughTheHole) {
+  // one ring at the origin, its axis (+Y) pointing at a camera straight above it
+  const Scene scene = make_scene(1, 1, {{"position", {0.0, 0.03, 0.0}}, {"target", {0, 0, 0}}});
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  RingFrame ring = rest_frame(weave);
+  ring.position.col(0).setZero();
+  ring.set_quat(0, Quat::Identity());
+  RingFrame empty;
+  empty.resize(0);
+
+  RenderSettings settings = small_settings();
+  settings.labels = false;
+  auto renderer = Renderer::create(settings);
+  const Image with_ring = renderer->render(scene, weave, {{"ring", &ring}});
+  const Image without = renderer->render(scene, weave, {{"ring", &empty}});
+
+  // centre radius c = 4.8 mm at 30 mm with a 40 degree field: 26.4 px from the image centre
+  const double focal = 60.0 / std::tan(20.0 * 3.141592653589793 / 180.0);
+  const int wire = static_cast<int>(std::lround(scene.ring.centre_radius / 0.03 * focal));
+  ASSERT_NEAR(wire, 26, 1);
+  for (const auto& [x, y] :
+       {std::pair{80 + wire, 60}, {80 - wire, 60}, {80, 60 + wire}, {80, 60 - wire}}) {
+    EXPECT_GT(pixel_difference(with_ring, without, x, y), 30) << "wire at " << x << "," << y;
+  }
+  // inside the hole (inner radius c - a = 4 mm = 22 px) the background shows unchanged
+  const int hole =
+      static_cast<int>((scene.ring.centre_radius - scene.ring.wire_radius) / 0.03 * focal) - 3;
+  for (int y = 60 - hole; y <= 60 + hole; ++y) {
+    for (int x = 80 - hole; x <= 80 + hole; ++x) {
+      if ((x - 80) * (x - 80) + (y - 60) * (y - 60) > hole * hole) continue;
+      ASSERT_EQ(pixel_difference(with_ring, without, x, y), 0) << "hole at " << x << "," << y;
+    }
+  }
+  // and well outside the ring nothing changed either
+  EXPECT_EQ(pixel_difference(with_ring, without, 5, 5), 0);
+}
+
+TEST(Render, IdenticalFramesGiveIdenticalPanels) {
+  const Scene scene = make_scene(5, 5);
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  const RingFrame a = rest_frame(weave), b = rest_frame(weave);
+  auto renderer = Renderer::create(small_settings());
+  const Image image = renderer->render(scene, weave, {{"same", &a}, {"same", &b}});
+  ASSERT_EQ(image.width, 320);
+  ASSERT_EQ(image.height, 120);
+  for (int y = 0; y < image.height; ++y) {
+    ASSERT_EQ(0, std::memcmp(pixel(image, 0, y), pixel(image, 160, y), 160 * 4)) << "row " << y;
+  }
+
+  // and a frame that differs gives a panel that differs
+  RingFrame moved = rest_frame(weave);
+  moved.position.row(1).array() += 0.01;
+  const Image other = renderer->render(scene, weave, {{"same", &a}, {"same", &moved}});
+  int differing = 0;
+  for (int y = 0; y < other.height; ++y) {
+    for (int x = 0; x < 160; ++x) {
+      differing += std::memcmp(pixel(other, x, y), pixel(other, x + 160, y), 4) != 0;
+    }
+  }
+  EXPECT_GT(differing, 100);
+}
+
+TEST(Render, SameInputSameImage) {
+  const Scene scene = make_scene(4, 4);
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  const RingFrame frame = rest_frame(weave);
+  auto renderer = Renderer::create(small_settings());
+  const Image first = renderer->render(scene, weave, {{"x", &frame}});
+  const Image second = renderer->render(scene, weave, {{"x", &frame}});
+  EXPECT_EQ(first.rgba, second.rgba);
+}
+
+TEST(Render, LevelOfDetailFollowsScreenSize) {
+  const Scene scene = make_scene(20, 20);
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  const RingFrame frame = rest_frame(weave);
+  RenderSettings settings = small_settings();
+  settings.lod = false;
+  auto full = Renderer::create(settings);
+  full->render(scene, weave, {{"x", &frame}});
+  EXPECT_EQ(full->last_stats().per_lod[0], 400);
+
+  // 400 rings across 160 px: a few pixels each, so no ring gets the finest mesh
+  settings.lod = true;
+  auto lod = Renderer::create(settings);
+  lod->render(scene, weave, {{"x", &frame}});
+  const FrameStats& stats = lod->last_stats();
+  EXPECT_EQ(stats.instances, 400);
+  EXPECT_EQ(stats.per_lod[0], 0);
+  EXPECT_GT(stats.per_lod[2] + stats.per_lod[3], 0);
+}
+
+TEST(Render, ClothPathDrawsEveryShader) {
+  const Scene scene = make_scene(6, 6);
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  const RingFrame frame = rest_frame(weave);
+  RenderSettings settings = small_settings();
+  settings.labels = false;
+  auto rings = Renderer::create(settings);
+  const Image ring_image = rings->render(scene, weave, {{"x", &frame}});
+  for (const std::string& name : cloth_shader_names()) {
+    settings.cloth_shader = name;
+    auto renderer = Renderer::create(settings);
+    const Image cloth = renderer->render(scene, weave, {{"x", &frame, true}});
+    EXPECT_NE(cloth.rgba, ring_image.rgba) << name;
+  }
+  settings.cloth_shader = "velvet";
+  EXPECT_THROW(Renderer::create(settings), RenderError);
+}
+
+TEST(Render, MissingShaderFileIsAClearError) {
+  TempDir dir;
+  for (const auto& entry : fs::directory_iterator(kShaderDir)) {
+    if (entry.path().filename() != "ring.frag") fs::copy(entry.path(), dir.path);
+  }
+  RenderSettings settings = small_settings();
+  settings.shader_dir = dir.path.string();
+  try {
+    Renderer::create(settings);
+    FAIL() << "a shader directory without ring.frag was accepted";
+  } catch (const RenderError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("ring.frag"), std::string::npos) << message;
+    EXPECT_NE(message.find(dir.path.string()), std::string::npos) << message;
+    EXPECT_NE(message.find("missing shader file"), std::string::npos) << message;
+  }
+}
+
+TEST(Render, NoGlAvailableIsAClearError) {
+  // as on a machine with neither library: both loads fail, and auto says so
+  RenderSettings settings = small_settings();
+  settings.osmesa_library = "/nonexistent/libOSMesa.so.8";
+  settings.egl_library = "/nonexistent/libEGL.so.1";
+  try {
+    Renderer::create(settings);
+    FAIL() << "a renderer was created without any GL library";
+  } catch (const RenderError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("no OpenGL available"), std::string::npos) << message;
+    EXPECT_NE(message.find("OSMesa"), std::string::npos) << message;
+    EXPECT_NE(message.find("EGL"), std::string::npos) << message;
+  }
+  settings = small_settings();
+  settings.context = "vulkan";
+  try {
+    Renderer::create(settings);
+    FAIL() << "an unknown context was accepted";
+  } catch (const RenderError& error) {
+    EXPECT_NE(std::string(error.what()).find("unknown GL context 'vulkan'"), std::string::npos);
+  }
+}
+
+TEST(Render, OsmesaAndEglDrawTheSameImage) {
+  const Scene scene = make_scene(5, 5);
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  const RingFrame frame = rest_frame(weave);
+  Image images[2];
+  const char* kinds[2] = {"osmesa", "egl"};
+  for (int k = 0; k < 2; ++k) {
+    RenderSettings settings = small_settings();
+    settings.context = kinds[k];
+    std::unique_ptr<Renderer> renderer;
+    try {
+      renderer = Renderer::create(settings);
+    } catch (const RenderError& error) {
+      GTEST_SKIP() << kinds[k] << " is not available here: " << error.what();
+    }
+    EXPECT_EQ(renderer->context_name(), kinds[k]);
+    images[k] = renderer->render(scene, weave, {{"x", &frame}});
+  }
+  EXPECT_EQ(images[0].rgba, images[1].rgba);
+}
+
+}  // namespace
+}  // namespace chainmail::render
