@@ -15,6 +15,7 @@ class PlausibleBackend final : public Backend {
     settings.damping = knobs.at("damping");
     settings.repulsion_fraction = knobs.at("repulsion_fraction");
     settings.repulsion_stiffness = knobs.at("repulsion_stiffness");
+    settings.contact_skin = knobs.at("contact_skin");
     settings.contact_margin = knobs.at("contact_margin");
     settings.swivel = knobs.at("swivel") != 0.0;
     settings.swivel_extended = knobs.at("swivel_extended");
@@ -47,6 +48,8 @@ BackendInfo plausible_backend_info() {
       {"repulsion_fraction", T::number, d.repulsion_fraction, 0.0, 2.0,
        "non-neighbour repulsion range / inner diameter"},
       {"repulsion_stiffness", T::number, d.repulsion_stiffness, 0.0, 1e9, "N/m"},
+      {"contact_skin", T::number, d.contact_skin, 0.0, 10.0,
+       "repulsion candidate list margin, fraction of the range (0 = rebuild every step)"},
       {"contact_margin", T::number, d.contact_margin, 0.0, 1.0,
        "collider skin around a ring centre, m (0: a + c sin(a/c))"},
       {"swivel", T::boolean, 1.0, 0.0, 1.0, "swivel rings into the 4-in-1 pattern"},

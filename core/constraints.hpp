@@ -2,6 +2,8 @@
 // positions and inverse masses and writes corrections; the caller owns the state.
 #pragma once
 
+#include <cmath>
+
 #include "core/types.hpp"
 
 namespace chainmail {
@@ -12,20 +14,17 @@ namespace chainmail {
 inline bool solve_edge_constraint(const Vec3& p0, double w0, const Vec3& p1, double w1,
                                   double min_length, double max_length, Vec3& corr0, Vec3& corr1) {
   const Vec3 d = p1 - p0;
-  const double length = d.norm();
+  const double length2 = d.squaredNorm();
+  // most edges are within bounds: decide on squared lengths, no square root
+  if (length2 <= max_length * max_length && length2 >= min_length * min_length) return false;
   const double w = w0 + w1;
-  if (w == 0.0 || length < 1e-15) return false;
-  double target;
-  if (length > max_length)
-    target = max_length;
-  else if (length < min_length)
-    target = min_length;
-  else
-    return false;
-  const Vec3 n = d / length;
-  const double error = length - target;  // > 0 stretched, < 0 compressed
-  corr0 = (w0 / w * error) * n;
-  corr1 = -(w1 / w * error) * n;
+  if (w == 0.0 || length2 < 1e-30) return false;
+  const double length = std::sqrt(length2);
+  const double target = length > max_length ? max_length : min_length;
+  // one division: error / (length * w) scales d to each end's share of the correction
+  const double scale = (length - target) / (length * w);  // > 0 stretched, < 0 compressed
+  corr0 = (w0 * scale) * d;
+  corr1 = -(w1 * scale) * d;
   return true;
 }
 

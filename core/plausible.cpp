@@ -2,11 +2,41 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <utility>
 
 #include "core/colliders.hpp"
 #include "core/constraints.hpp"
 
 namespace chainmail {
+namespace {
+
+// the weave's links as edge constraints, grouped by a greedy edge colouring: within one colour no
+// two edges share a ring, so consecutive solves do not wait on each other's square root and
+// division (the sweep stays Gauss-Seidel: each colour sees the corrections of the ones before)
+std::vector<EdgeConstraint> colour_ordered_edges(const Weave& weave, double min_length,
+                                                 double max_length) {
+  const int n = weave.size();
+  std::vector<std::uint32_t> used(n, 0);  // (n) bit c set: ring has an edge of colour c
+  std::vector<std::pair<int, EdgeConstraint>> coloured;
+  coloured.reserve(weave.links.size());
+  for (const RingPair& link : weave.links) {
+    const std::uint32_t taken = used[link.a] | used[link.b];
+    int colour = 0;
+    while (colour < 31 && (taken >> colour & 1u)) ++colour;
+    used[link.a] |= 1u << colour;
+    used[link.b] |= 1u << colour;
+    coloured.push_back({colour, {link.a, link.b, min_length, max_length}});
+  }
+  std::stable_sort(coloured.begin(), coloured.end(),
+                   [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::vector<EdgeConstraint> edges;
+  edges.reserve(coloured.size());
+  for (const auto& [colour, edge] : coloured) edges.push_back(edge);
+  return edges;
+}
+
+}  // namespace
 
 void PlausibleSim::reset(const Scene& scene, const Weave& weave,
                          const PlausibleSettings& settings) {
@@ -23,9 +53,7 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   for (int i = 0; i < n; ++i) model_.inverse_mass[i] = 1.0 / model_.mass[i];
   for (int pinned : resolve_pins(scene, weave)) model_.inverse_mass[pinned] = 0.0;
   const double max_length = settings.max_link_fraction * ring.inner_diameter();
-  for (const RingPair& link : weave.links) {
-    model_.edges.push_back({link.a, link.b, ring.min_link_distance(), max_length});
-  }
+  model_.edges = colour_ordered_edges(weave, ring.min_link_distance(), max_length);
   // breadth-first depth from the pins orders the outward pass
   {
     std::vector<int> depth(n, -1), queue;
@@ -104,17 +132,40 @@ void PlausibleSim::accumulate_forces() {
   if (!model_.self_contact || n < 2) return;
 
   auto repulsion = profile_.scope("self_contact");
+  refresh_contact_candidates();
   const double range = model_.repulsion_range;
   const double k = model_.settings.repulsion_stiffness;
-  hash_.build(state_.position, range);
-  hash_.for_each_pair(state_.position, range, [&](int i, int j) {
+  for (const RingPair& pair : state_.contact_candidates) {
+    const Vec3 f =
+        repulsion_force(state_.position.col(pair.a), state_.position.col(pair.b), range, k);
+    state_.force.col(pair.a) += f;
+    state_.force.col(pair.b) -= f;
+  }
+}
+
+void PlausibleSim::refresh_contact_candidates() {
+  // a pair closer than the range now was closer than range + skin when the list was built, as
+  // long as no ring has moved more than half the skin since: only then is a rebuild needed
+  const double skin = model_.settings.contact_skin * model_.repulsion_range;
+  const int n = static_cast<int>(state_.position.cols());
+  if (skin > 0.0 && state_.contact_anchor.cols() == n) {
+    const double limit2 = 0.25 * skin * skin;
+    bool moved = false;
+    for (int i = 0; i < n && !moved; ++i) {
+      moved = (state_.position.col(i) - state_.contact_anchor.col(i)).squaredNorm() > limit2;
+    }
+    if (!moved) return;
+  }
+  const double radius = model_.repulsion_range + skin;
+  state_.contact_candidates.clear();
+  hash_.build(state_.position, radius);
+  hash_.for_each_pair(state_.position, radius, [&](int i, int j) {
     const auto& nb = weave_.neighbours[i];
-    if (nb[0] == j || nb[1] == j || nb[2] == j || nb[3] == j)
-      return;  // linked: constraints hold them
-    const Vec3 f = repulsion_force(state_.position.col(i), state_.position.col(j), range, k);
-    state_.force.col(i) += f;
-    state_.force.col(j) -= f;
+    if (nb[0] == j || nb[1] == j || nb[2] == j || nb[3] == j) return;  // linked: constraints
+    state_.contact_candidates.push_back({i, j});
   });
+  state_.contact_anchor = state_.position;
+  ++state_.contact_rebuilds;
 }
 
 void PlausibleSim::integrate(double dt) {

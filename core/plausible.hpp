@@ -21,6 +21,9 @@ struct PlausibleSettings {
   double damping = 0.5;               // 1/s, velocity drag
   double repulsion_fraction = 0.7;    // repulsion range / inner diameter
   double repulsion_stiffness = 10.0;  // N/m
+  // candidate repulsion pairs are gathered within range * (1 + contact_skin) and kept until some
+  // ring has moved half the skin (a Verlet list); 0 rebuilds from the spatial hash every step
+  double contact_skin = 0.3;
   double contact_margin = 0.0;        // m, collider skin around a ring centre; 0 = a + c sin(a/c)
   bool swivel = true;                 // paper §4 swivel (4in1)
   double swivel_extended = 0.0;       // rad, swivel at full extension; 0 = the paper's a/c
@@ -63,6 +66,10 @@ struct PlausibleState {
   Eigen::VectorXd contact_push;      // (n) m, collider push-out this step (0: no contact)
   Positions contact_normal;          // (3, n) unit, last collider normal this step
   Eigen::VectorXd contact_friction;  // (n) Coulomb coefficient of that collider
+  // self-contact candidates: non-neighbour pairs near each other when the list was built
+  std::vector<RingPair> contact_candidates;  // (k) i < j
+  Positions contact_anchor;                  // (3, n) m, positions when the list was built
+  long long contact_rebuilds = 0;            // lists built so far
 };
 
 class PlausibleSim {
@@ -80,6 +87,7 @@ class PlausibleSim {
 
  private:
   void accumulate_forces();
+  void refresh_contact_candidates();
   void integrate(double dt);
   void solve_constraints();
   void propagate_from_pins();

@@ -1,33 +1,74 @@
 #include "core/spatial_hash.hpp"
 
 #include <algorithm>
+#include <array>
 
 namespace chainmail {
 
 void SpatialHash::build(const Positions& points, double cell_size, int table_size) {
   const int n = static_cast<int>(points.cols());
   inv_cell_ = 1.0 / cell_size;
-  int table = 64;
-  while (table < (table_size > 0 ? table_size : 2 * n)) table *= 2;
-  mask_ = static_cast<std::uint64_t>(table - 1);
-  bucket_start_.assign(table + 1, 0);
-  sorted_.resize(n);
-  // counting sort by bucket: count, prefix sum, scatter
-  std::vector<int> bucket_of(n);
-  std::vector<std::uint64_t> key_of(n);
+
+  // cell coordinates of every finite point, and their extent
+  std::vector<int> finite;
+  finite.reserve(n);
+  std::vector<std::array<std::int64_t, 3>> cell(n);
+  std::int64_t lo[3] = {0, 0, 0}, hi[3] = {-1, -1, -1};
   for (int i = 0; i < n; ++i) {
     const Vec3 p = points.col(i);
-    key_of[i] = pack_cell(cell_of(p.x()), cell_of(p.y()), cell_of(p.z()));
-    bucket_of[i] = bucket_of_key(key_of[i]);
-    ++bucket_start_[bucket_of[i] + 1];
+    // non-finite, or beyond the 2^20 cells a packed key holds per axis: in no cell
+    if (!p.allFinite() || p.cwiseAbs().maxCoeff() * inv_cell_ > 1e6) continue;
+    cell[i] = {cell_of(p.x()), cell_of(p.y()), cell_of(p.z())};
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = finite.empty() ? cell[i][a] : std::min(lo[a], cell[i][a]);
+      hi[a] = finite.empty() ? cell[i][a] : std::max(hi[a], cell[i][a]);
+    }
+    finite.push_back(i);
   }
-  for (int b = 0; b < table; ++b) bucket_start_[b + 1] += bucket_start_[b];
+
+  // dense when the box holds at most 8 cells per point (and always for tiny sets)
+  std::int64_t cells = 1;
+  for (int a = 0; a < 3; ++a) {
+    origin_[a] = lo[a];
+    dims_[a] = std::max<std::int64_t>(hi[a] - lo[a] + 1, 1);
+    cells = std::min<std::int64_t>(cells * dims_[a], std::int64_t{1} << 40);
+  }
+  dense_ = !finite.empty() && cells <= std::max<std::int64_t>(32 * static_cast<std::int64_t>(n), 4096);
+
+  std::int64_t table = 0;
+  std::vector<std::uint64_t> key_of(n);
+  std::vector<int> bucket_of(n);
+  if (dense_) {
+    table = cells;
+    for (int i : finite) {
+      key_of[i] = static_cast<std::uint64_t>(
+          dense_index(cell[i][0] - lo[0], cell[i][1] - lo[1], cell[i][2] - lo[2]));
+      bucket_of[i] = static_cast<int>(key_of[i]);
+    }
+  } else {
+    table = 64;
+    while (table < (table_size > 0 ? table_size : 2 * n)) table *= 2;
+    mask_ = static_cast<std::uint64_t>(table - 1);
+    for (int i : finite) {
+      key_of[i] = pack_cell(cell[i][0], cell[i][1], cell[i][2]);
+      bucket_of[i] = bucket_of_key(key_of[i]);
+    }
+  }
+
+  // counting sort by bucket: count, prefix sum, scatter (stable: ascending index within a bucket)
+  bucket_start_.assign(static_cast<size_t>(table) + 1, 0);
+  for (int i : finite) ++bucket_start_[bucket_of[i] + 1];
+  for (std::int64_t b = 0; b < table; ++b) bucket_start_[b + 1] += bucket_start_[b];
   std::vector<int> fill(bucket_start_.begin(), bucket_start_.end() - 1);
-  sorted_key_.resize(n);
-  for (int i = 0; i < n; ++i) {
+  const int count = static_cast<int>(finite.size());
+  sorted_.resize(count);
+  sorted_key_.resize(count);
+  sorted_position_.resize(3, count);
+  for (int i : finite) {
     const int slot = fill[bucket_of[i]]++;
     sorted_[slot] = i;
     sorted_key_[slot] = key_of[i];
+    sorted_position_.col(slot) = points.col(i);
   }
 }
 

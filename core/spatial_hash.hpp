@@ -3,6 +3,7 @@
 // and points are counting-sorted into the table so a query touches contiguous memory.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -30,20 +31,28 @@ inline std::uint64_t hash_cell(std::int64_t x, std::int64_t y, std::int64_t z) {
   return mix_cell(pack_cell(x, y, z));
 }
 
+// Two layouts behind one interface, chosen per build from the points' extent:
+//  - dense: when the bounding box holds at most a few cells per point (a sheet, a pile), cells
+//    are a plain 3-D array with z fastest, so the three cells along z of a neighbourhood row are
+//    one contiguous run of sorted points: a half-shell query reads 5 runs instead of 14 cells;
+//  - hashed: otherwise (points spread far apart), cells go through mix_cell into a power-of-two
+//    table and every candidate is checked against its packed cell key (hash collisions).
+// Non-finite points are in no cell: they are never visited and never visit.
 class SpatialHash {
  public:
-  // cell_size should be at least the query radius; the table has a power-of-two size of at least
-  // table_size buckets (0: twice the point count)
+  // cell_size should be at least the query radius; the hashed table has a power-of-two size of
+  // at least table_size buckets (0: twice the point count)
   void build(const Positions& points, double cell_size, int table_size = 0);
 
   // calls visit(j) for every point j > i (or every j != i when all_pairs) within `radius` of point
   // i
   template <class Visit>
   void for_each_near(const Positions& points, int i, double radius, Visit&& visit) const;
-  // every unordered pair (i < j) closer than `radius`; radius <= cell size
+  // every unordered pair (i < j) closer than `radius`, each once; radius <= cell size
   template <class Visit>
   void for_each_pair(const Positions& points, double radius, Visit&& visit) const;
 
+  bool dense() const { return dense_; }
   int table_size() const { return static_cast<int>(bucket_start_.size()) - 1; }
   // number of points sharing a bucket with a point of another cell (hash collisions), for tests
   long long foreign_entries() const;
@@ -55,20 +64,58 @@ class SpatialHash {
   int bucket_of_key(std::uint64_t key) const {
     return static_cast<int>(mix_cell(key) & mask_);  // power-of-two table
   }
+  // dense layout: index of cell (x, y, z) relative to the grid origin, all in range
+  std::int64_t dense_index(std::int64_t x, std::int64_t y, std::int64_t z) const {
+    return (x * dims_[1] + y) * dims_[2] + z;
+  }
+  // calls visit(slot) for the sorted slots of cells (x, y, z_lo..z_hi), clipped to the grid
+  template <class Visit>
+  void for_each_in_run(std::int64_t x, std::int64_t y, std::int64_t z_lo, std::int64_t z_hi,
+                       Visit&& visit) const;
 
   double inv_cell_ = 1.0;
-  std::uint64_t mask_ = 0;
-  std::vector<int> bucket_start_;          // (table + 1) prefix offsets into sorted_
-  std::vector<int> sorted_;                // (n) point indices grouped by bucket
-  std::vector<std::uint64_t> sorted_key_;  // (n) packed cell of each sorted point
+  bool dense_ = false;
+  std::int64_t origin_[3] = {0, 0, 0};     // dense: cell coordinates of the grid's first cell
+  std::int64_t dims_[3] = {0, 0, 0};       // dense: cells per axis
+  std::uint64_t mask_ = 0;                 // hashed: table size - 1
+  std::vector<int> bucket_start_;          // (cells or table + 1) prefix offsets into sorted_
+  std::vector<int> sorted_;                // (finite points) point indices grouped by cell/bucket
+  std::vector<std::uint64_t> sorted_key_;  // (finite points) packed cell (hashed) or cell index
+  Positions sorted_position_;              // (3, finite points) m, positions in sorted order
 };
+
+template <class Visit>
+void SpatialHash::for_each_in_run(std::int64_t x, std::int64_t y, std::int64_t z_lo,
+                                  std::int64_t z_hi, Visit&& visit) const {
+  if (x < 0 || x >= dims_[0] || y < 0 || y >= dims_[1]) return;
+  z_lo = std::max<std::int64_t>(z_lo, 0);
+  z_hi = std::min<std::int64_t>(z_hi, dims_[2] - 1);
+  if (z_lo > z_hi) return;
+  const int first = bucket_start_[dense_index(x, y, z_lo)];
+  const int last = bucket_start_[dense_index(x, y, z_hi) + 1];
+  for (int slot = first; slot < last; ++slot) visit(slot);
+}
 
 template <class Visit>
 void SpatialHash::for_each_near(const Positions& points, int i, double radius,
                                 Visit&& visit) const {
   const Vec3 p = points.col(i);
+  if (!p.allFinite()) return;
   const double r2 = radius * radius;
   const std::int64_t cx = cell_of(p.x()), cy = cell_of(p.y()), cz = cell_of(p.z());
+  if (dense_) {
+    // 9 runs of 3 cells along z
+    const std::int64_t x = cx - origin_[0], y = cy - origin_[1], z = cz - origin_[2];
+    for (std::int64_t dx = -1; dx <= 1; ++dx) {
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        for_each_in_run(x + dx, y + dy, z - 1, z + 1, [&](int slot) {
+          const int j = sorted_[slot];
+          if (j > i && (sorted_position_.col(slot) - p).squaredNorm() < r2) visit(j);
+        });
+      }
+    }
+    return;
+  }
   // the 27 cells around p; a bucket may hold points of other cells (hash collisions): skip them
   for (std::int64_t dx = -1; dx <= 1; ++dx) {
     for (std::int64_t dy = -1; dy <= 1; ++dy) {
@@ -78,7 +125,7 @@ void SpatialHash::for_each_near(const Positions& points, int i, double radius,
         for (int k = bucket_start_[b]; k < bucket_start_[b + 1]; ++k) {
           const int j = sorted_[k];
           if (j <= i || sorted_key_[k] != key) continue;
-          if ((points.col(j) - p).squaredNorm() < r2) visit(j);
+          if ((sorted_position_.col(k) - p).squaredNorm() < r2) visit(j);
         }
       }
     }
@@ -90,8 +137,32 @@ void SpatialHash::for_each_pair(const Positions& points, double radius, Visit&& 
   // half shell: each point looks at later points of its own cell and every point of the 13 cells
   // lexicographically after its own, so each pair is met exactly once
   const double r2 = radius * radius;
+  if (dense_) {
+    // walk the points in cell order; the half shell is 5 runs along z: the rest of the own cell
+    // and the next z cell, then the rows (0, +1) and (+1, -1..+1) of 3 cells each
+    const int count = static_cast<int>(sorted_.size());
+    for (int s = 0; s < count; ++s) {
+      const int i = sorted_[s];
+      const Vec3 p = sorted_position_.col(s);
+      const auto cell = static_cast<std::int64_t>(sorted_key_[s]);
+      const std::int64_t z = cell % dims_[2], y = (cell / dims_[2]) % dims_[1],
+                         x = cell / (dims_[2] * dims_[1]);
+      auto near = [&](int slot) {
+        if ((sorted_position_.col(slot) - p).squaredNorm() < r2) {
+          const int j = sorted_[slot];
+          visit(std::min(i, j), std::max(i, j));
+        }
+      };
+      const int own_end = bucket_start_[cell + (z + 1 < dims_[2] ? 2 : 1)];
+      for (int slot = s + 1; slot < own_end; ++slot) near(slot);
+      for_each_in_run(x, y + 1, z - 1, z + 1, near);
+      for (std::int64_t dy = -1; dy <= 1; ++dy) for_each_in_run(x + 1, y + dy, z - 1, z + 1, near);
+    }
+    return;
+  }
   for (int i = 0; i < points.cols(); ++i) {
     const Vec3 p = points.col(i);
+    if (!p.allFinite()) continue;
     const std::int64_t cx = cell_of(p.x()), cy = cell_of(p.y()), cz = cell_of(p.z());
     for (std::int64_t dx = 0; dx <= 1; ++dx) {
       for (std::int64_t dy = dx == 0 ? 0 : -1; dy <= 1; ++dy) {
@@ -102,7 +173,8 @@ void SpatialHash::for_each_pair(const Positions& points, double radius, Visit&& 
           for (int k = bucket_start_[b]; k < bucket_start_[b + 1]; ++k) {
             const int j = sorted_[k];
             if (sorted_key_[k] != key || (own && j <= i)) continue;
-            if ((points.col(j) - p).squaredNorm() < r2) visit(std::min(i, j), std::max(i, j));
+            if ((sorted_position_.col(k) - p).squaredNorm() < r2)
+              visit(std::min(i, j), std::max(i, j));
           }
         }
       }

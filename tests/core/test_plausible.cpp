@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <set>
+#include <utility>
 
 #include "core/orientation.hpp"
 #include "core/plausible.hpp"
@@ -172,6 +174,46 @@ TEST(Orientation, SwivelFromExtendedToCompressed) {
                orientation(3, interior));
   const Quat f(flat(0, interior), flat(1, interior), flat(2, interior), flat(3, interior));
   EXPECT_NEAR(q.angularDistance(f), a_over_c, 1e-9);
+}
+
+TEST(Plausible, ContactCandidatesHoldEveryPairInRange) {
+  // a sheet folding over a sphere: at every step each non-neighbour pair closer than the
+  // repulsion range must be in the reused candidate list, and the list is rebuilt far less often
+  // than every step
+  const Scene scene = scene_from_json(
+      json{{"name", "fold"},
+           {"weave",
+            {{"type", "4in1"},
+             {"rows", 12},
+             {"cols", 12},
+             {"plane", "xz"},
+             {"center", {0, 0.08, 0}}}},
+           {"colliders", json::array({{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 0.04}}})},
+           {"duration", 1.0}},
+      "test");
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  PlausibleSim sim;
+  sim.reset(scene, weave, PlausibleSettings{});
+  const int steps = 300;
+  const double range = sim.model().repulsion_range;
+  long long close_pairs = 0;
+  for (int s = 0; s < steps; ++s) {
+    sim.step(0.004);
+    const auto& p = sim.state().position;
+    std::set<std::pair<int, int>> listed;
+    for (const RingPair& c : sim.state().contact_candidates) listed.insert({c.a, c.b});
+    for (int i = 0; i < weave.size(); ++i) {
+      for (int j = i + 1; j < weave.size(); ++j) {
+        const auto& nb = weave.neighbours[i];
+        if (std::find(nb.begin(), nb.end(), j) != nb.end()) continue;
+        if ((p.col(i) - p.col(j)).norm() >= range) continue;
+        ++close_pairs;
+        ASSERT_TRUE(listed.count({i, j})) << "pair " << i << "," << j << " missed at step " << s;
+      }
+    }
+  }
+  EXPECT_GT(close_pairs, 0);  // the fold does bring rings into contact
+  EXPECT_LT(sim.state().contact_rebuilds, steps / 2);
 }
 
 TEST(Plausible, SameSceneTwiceSameHash) {

@@ -1,0 +1,43 @@
+// Milliseconds per step of the plausible model on the committed `curtain` scene at the paper's
+// 30x30 and at 100x100, self-contact on, default knobs. Each iteration runs one simulated second
+// from rest (the swing after release is the expensive part for self-contact), and the counters
+// give the per-stage split so a regression can be traced to its phase.
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include "core/plausible.hpp"
+#include "core/scene.hpp"
+#include "core/weave.hpp"
+
+namespace {
+
+using namespace chainmail;
+
+void BM_PlausibleCurtain(benchmark::State& bench) {
+  const int side = static_cast<int>(bench.range(0));
+  const Scene scene = load_scene_file(
+      CHAINMAIL_SOURCE_DIR "/bench/scenes/curtain.json",
+      {"weave.rows=" + std::to_string(side), "weave.cols=" + std::to_string(side)});
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  const double dt = 0.004;  // the backend's default
+  const int steps = static_cast<int>(1.0 / dt);
+  PlausibleSim sim;
+  for (auto _ : bench) {
+    sim.reset(scene, weave, PlausibleSettings{});
+    for (int s = 0; s < steps; ++s) sim.step(dt);
+  }
+  // one iteration (see below): the profile covers exactly the timed steps
+  double total_s = 0.0;
+  for (const auto& [stage, stats] : sim.profile().stages()) {
+    bench.counters[stage + "_ms"] = 1e3 * stats.seconds / steps;
+    if (stage != "self_contact") total_s += stats.seconds;  // nested inside "forces"
+  }
+  bench.counters["ms_per_step"] = 1e3 * total_s / steps;
+  bench.counters["realtime_factor"] = dt * steps / total_s;
+  bench.counters["contact_rebuilds"] = static_cast<double>(sim.state().contact_rebuilds);
+}
+
+}  // namespace
+
+BENCHMARK(BM_PlausibleCurtain)->Arg(30)->Arg(100)->Unit(benchmark::kMillisecond)->Iterations(1);
