@@ -34,16 +34,22 @@ bool axis_vector(const Positions& p, int ring, int minus, int plus, Vec3& out, d
 
 }  // namespace
 
-Mat3 orthonormal_basis_eq1(const Vec3& x, const Vec3& z) {
-  const Vec3 xn = x.normalized(), zn = z.normalized();
-  const Vec3 y = zn.cross(xn).normalized();
+Mat3 basis_from_unit_axes(const Vec3& xn, const Vec3& zn, const Vec3& y) {
+  // eq. (1): the bisector of x and z and its perpendicular in their plane, rotated back by 45
+  // degrees; v45 and v135 are orthonormal, so their sum has length sqrt(2) exactly
   const Vec3 v45 = (xn + zn).normalized();
   const Vec3 v135 = y.cross(v45);
   Mat3 basis;
-  basis.col(0) = (v45 + v135).normalized();
+  basis.col(0) = (v45 + v135) * std::numbers::sqrt2 * 0.5;
   basis.col(1) = y;
   basis.col(2) = basis.col(0).cross(y);
   return basis;
+}
+
+Mat3 orthonormal_basis_eq1(const Vec3& x, const Vec3& z) {
+  const Vec3 xn = x.normalized(), zn = z.normalized();
+  const Vec3 y = zn.cross(xn).normalized();
+  return basis_from_unit_axes(xn, zn, y);
 }
 
 double swivel_angle(double ratio, double min_ratio, double extended) {
@@ -94,18 +100,23 @@ void orient_rings(const Positions& position, const Weave& weave, const RingGeome
     if (!has_x && !has_z) continue;
     if (!has_x) x = old * Vec3::UnitX(), dx = dz;
     if (!has_z) z = old * Vec3::UnitZ(), dz = dx;
-    if (x.normalized().cross(z.normalized()).norm() < 1e-6) continue;  // degenerate: keep old
-    const Mat3 basis = orthonormal_basis_eq1(x, z);
+    const Vec3 xn = has_x ? Vec3(x / (nb[0] >= 0 && nb[1] >= 0 ? 2.0 * dx : dx)) : x.normalized();
+    const Vec3 zn = has_z ? Vec3(z / (nb[2] >= 0 && nb[3] >= 0 ? 2.0 * dz : dz)) : z.normalized();
+    const Vec3 normal = zn.cross(xn);
+    const double sine = normal.norm();
+    if (sine < 1e-6) continue;  // x and z (anti)parallel: degenerate, keep the old orientation
+    const Mat3 basis = basis_from_unit_axes(xn, zn, normal / sine);
     Quat q(basis);
 
     if (settings.swivel && weave.type == WeaveType::four_in_one) {
       // swivel about the axis weighted by the neighbour distances along each grid direction
       // (equal distances: the row normal, about which European 4-in-1 rows lean); the angle grows
-      // from a/c at full extension to pi/2 under compression; its sign alternates by row
-      const Vec3 axis = (dx * basis.col(0) - dz * basis.col(2)).normalized();
+      // from a/c at full extension to pi/2 under compression; its sign alternates by row.
+      // In the ring's own frame that axis is (dx, 0, -dz) / |.|, so the swivel composes on the right
       const double ratio = 0.5 * (dx + dz) / settings.max_link_distance;
       const double theta = weave.parity[i] * swivel_angle(ratio, min_ratio, extended);
-      q = Quat(Eigen::AngleAxisd(theta, axis)) * q;
+      const double half_sin = std::sin(0.5 * theta) / std::hypot(dx, dz);
+      q = q * Quat(std::cos(0.5 * theta), half_sin * dx, 0.0, -half_sin * dz);
     }
     store(orientation, i, q.normalized());
   }

@@ -12,6 +12,8 @@ namespace chainmail {
 // to 45 deg either side of the bisector v45 = |x + z|:  v135 = y x v45,  x' = |v45 + v135|,  z' =
 // x' x y.
 Mat3 orthonormal_basis_eq1(const Vec3& x, const Vec3& z);
+// the same from unit x and z and the unit normal y = z x x / |z x x|
+Mat3 basis_from_unit_axes(const Vec3& xn, const Vec3& zn, const Vec3& y);
 
 // swivel angle interpolated linearly between a/c at full extension (ratio 1) and pi/2 fully
 // compressed (ratio = min_ratio), ratio = mean neighbour distance / maximum link distance

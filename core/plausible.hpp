@@ -18,7 +18,7 @@ namespace chainmail {
 struct PlausibleSettings {
   int iterations = 10;                // constraint sweeps per step
   double max_link_fraction = 0.95;    // effective inner diameter / inner diameter (paper §3)
-  double damping = 0.5;               // 1/s, velocity drag
+  double damping = 5.0;               // 1/s, velocity drag (0.5 lets a 100-row curtain whip)
   double repulsion_fraction = 0.7;    // repulsion range / inner diameter
   double repulsion_stiffness = 10.0;  // N/m
   // candidate repulsion pairs are gathered within range * (1 + contact_skin) and kept until some

@@ -16,7 +16,8 @@ namespace chainmail {
 std::function<void(const SceneRun&, const std::string&)> make_render_writer(
     const std::string& cloth_shader) {
   render::RenderSettings settings;
-  if (!cloth_shader.empty()) settings.cloth_shader = cloth_shader;
+  // the textured-cloth baseline shows a chainmail texture unless another shader is asked for
+  settings.cloth_shader = cloth_shader.empty() ? "texture" : cloth_shader;
   std::shared_ptr<render::Renderer> renderer;
   try {
     renderer = render::Renderer::create(settings);  // GL context + every shader, checked up front

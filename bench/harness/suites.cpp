@@ -244,6 +244,7 @@ struct StabilityCase {
   std::string description;
   json scene;
   std::vector<std::string> only;  // restrict to these backends (empty: every backend)
+  int bisection_steps = 3;        // halvings (in log space) of the searched dt range
 };
 
 json sheet_scene(const std::string& name, int size, bool hanging) {
@@ -320,13 +321,25 @@ std::vector<StabilityCase> stability_cases(bool quick) {
          s,
          {}});
   }
+  // the stiffness study on the document's own cloth (two pinned corners, 50 x 50 masses over
+  // 1 m, dt 1/2700 s): structural and shear springs at ks, bending at ks / 5 as in the scene
+  const json cloth =
+      load_scene_file(source_dir() + "/bench/scenes/cloth/pinned2.json").resolved;
   for (double ks : {500.0, 5000.0, 50000.0, 500000.0}) {
-    json s = sheet_scene("stiff_springs", size, true);
+    json s = cloth;
     char name[64];
     std::snprintf(name, sizeof name, "springs_ks_%g", ks);
     s["name"] = name;
-    s["backends"] = {{"massspring", {{"ks", ks}}}};
-    cases.push_back({name, "mass-spring curtain with spring constant ks (N/m)", s, {"massspring"}});
+    s["duration"] = quick ? 0.2 : 1.0;
+    s["sample_interval"] = 0.05;
+    if (quick) s["weave"]["rows"] = 12, s["weave"]["cols"] = 12;
+    auto& knobs = s["backends"]["massspring"];
+    knobs["ks"] = ks, knobs["shear_ks"] = ks, knobs["bend_ks"] = ks / 5.0;
+    cases.push_back({name,
+                     "the document's two-corner cloth with spring constant ks (N/m) (bending ks/5)",
+                     s,
+                     {"massspring"},
+                     6});
   }
   return cases;
 }
@@ -339,7 +352,7 @@ struct DtSearch {
 
 // largest stable dt by bisection in log space around the case's own dt
 DtSearch largest_stable_dt(const Scene& scene, const Weave& weave, const std::string& backend,
-                           double dt0, bool stable0, const RunOptions& options) {
+                           double dt0, bool stable0, int steps, const RunOptions& options) {
   auto stable_at = [&](double dt) {
     json doc = scene.resolved;
     doc["backends"][backend]["dt"] = dt;
@@ -360,7 +373,7 @@ DtSearch largest_stable_dt(const Scene& scene, const Weave& weave, const std::st
     hi = dt0, lo = dt0 / 16.0;
     if (!stable_at(lo)) return {lo, "<"};
   }
-  for (int it = 0; it < 3; ++it) {
+  for (int it = 0; it < steps; ++it) {
     const double mid = std::sqrt(lo * hi);
     (stable_at(mid) ? lo : hi) = mid;
   }
@@ -383,7 +396,7 @@ int stability_command(const StabilityCommand& command) {
          "penetrating_linked,false_links,max_speed,ms_per_step\n";
   md << "# Stability suite\n\nEach case runs every backend at its default knobs (the verdict), "
         "then "
-        "bisects for the largest stable dt (log-space, 3 steps; `>=` = stable at the top of the "
+        "bisects for the largest stable dt (log-space, 3 steps, 6 for the spring study; `>=` = stable at the top of the "
         "searched range, `<` = unstable at the bottom).\n\n"
         "| case | backend | dt (s) | verdict | largest stable dt (s) | max_stretch | broken_links "
         "| "
@@ -412,7 +425,7 @@ int stability_command(const StabilityCommand& command) {
         std::fprintf(stderr, "  %s: %s\n", name.c_str(), e.what());
         continue;
       }
-      const DtSearch dt = largest_stable_dt(scene, weave, name, run.dt, run.stable, search);
+      const DtSearch dt = largest_stable_dt(scene, weave, name, run.dt, run.stable, c.bisection_steps, search);
       const Metrics& m = run.final_metrics();
       unstable += !run.stable;
       csv << c.name << ',' << name << ',' << csv_number(run.dt) << ',' << run.verdict << ','
