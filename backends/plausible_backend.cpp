@@ -19,6 +19,7 @@ class PlausibleBackend final : public Backend {
     settings.contact_margin = knobs.at("contact_margin");
     settings.swivel = knobs.at("swivel") != 0.0;
     settings.swivel_extended = knobs.at("swivel_extended");
+    settings.swivel_fit = knobs.at("swivel_fit") != 0.0;
     settings.shock_propagation = knobs.at("shock_propagation") != 0.0;
     sim_.reset(scene, weave, settings);
   }
@@ -57,6 +58,8 @@ BackendInfo plausible_backend_info() {
        "a last constraint pass outward from the pins, moving only the far ring"},
       {"swivel_extended", T::number, d.swivel_extended, 0.0, 1.5707963267948966,
        "swivel angle at full extension, rad (0: the paper's a/c)"},
+      {"swivel_fit", T::boolean, 0.0, 0.0, 1.0,
+       "swivel at full extension fitted to the ring geometry (most neighbour clearance)"},
   };
   info.create = [] { return std::make_unique<PlausibleBackend>(); };
   return info;

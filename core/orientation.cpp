@@ -1,7 +1,10 @@
 #include "core/orientation.hpp"
 
+#include "core/geometry.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace chainmail {
@@ -56,6 +59,45 @@ double swivel_angle(double ratio, double min_ratio, double extended) {
   const double compressed = 0.5 * std::numbers::pi;
   const double t = std::clamp((1.0 - ratio) / (1.0 - min_ratio), 0.0, 1.0);
   return extended + t * (compressed - extended);
+}
+
+double fitted_extended_swivel(const RingGeometry& ring, double max_link_distance) {
+  // one ring at the origin with the identity basis (neighbours along local X and Z) swivelled by
+  // +theta about (1, 0, -1)/sqrt(2); its neighbours swivelled by -theta about the same axis
+  const Vec3 axis = Vec3(1.0, 0.0, -1.0).normalized();
+  const double d = max_link_distance, c = ring.centre_radius;
+  auto clearance = [&](double theta) {
+    const Quat mine(Eigen::AngleAxisd(theta, axis)), theirs(Eigen::AngleAxisd(-theta, axis));
+    const Circle centre = ring_circle(Vec3::Zero(), mine, c);
+    double worst = std::numeric_limits<double>::infinity();
+    for (const Vec3& offset : {Vec3(d, 0.0, 0.0), Vec3(0.0, 0.0, d)}) {
+      const Circle other = ring_circle(offset, theirs, c);
+      if (!circles_linked(centre, other)) return -std::numeric_limits<double>::infinity();
+      worst = std::min(worst, circle_circle_distance(centre, other));
+    }
+    return worst;
+  };
+  // coarse scan, then golden-section refinement around the best sample
+  constexpr int kSamples = 90;
+  const double step = 0.5 * std::numbers::pi / kSamples;
+  int best = 0;
+  double best_clearance = -std::numeric_limits<double>::infinity();
+  for (int k = 0; k <= kSamples; ++k) {
+    const double value = clearance(k * step);
+    if (value > best_clearance) best_clearance = value, best = k;
+  }
+  double lo = std::max(0.0, (best - 1) * step);
+  double hi = std::min(0.5 * std::numbers::pi, (best + 1) * step);
+  const double ratio = 0.5 * (std::sqrt(5.0) - 1.0);
+  for (int k = 0; k < 40; ++k) {
+    const double m1 = hi - ratio * (hi - lo), m2 = lo + ratio * (hi - lo);
+    if (clearance(m1) < clearance(m2)) {
+      lo = m1;
+    } else {
+      hi = m2;
+    }
+  }
+  return 0.5 * (lo + hi);
 }
 
 void orient_rings(const Positions& position, const Weave& weave, const RingGeometry& ring,

@@ -19,6 +19,13 @@ Mat3 basis_from_unit_axes(const Vec3& xn, const Vec3& zn, const Vec3& y);
 // compressed (ratio = min_ratio), ratio = mean neighbour distance / maximum link distance
 double swivel_angle(double ratio, double min_ratio, double extended_angle);
 
+// the swivel at full extension that leaves the most wire clearance between a ring and its grid
+// neighbours when all four sit at `max_link_distance` along orthogonal axes, each swivelled the
+// other way (the 4-in-1 pattern at full extension), searched over [0, pi/2] among angles that keep
+// the pair linked. The paper's a/c is far smaller for common aspect ratios and leaves neighbours
+// interpenetrating; this is the same interpolation with its lower end taken from the geometry.
+double fitted_extended_swivel(const RingGeometry& ring, double max_link_distance);
+
 struct OrientationSettings {
   double max_link_distance = 0.0;  // m, the model's maximum neighbour distance
   bool swivel = true;              // 4in1: swivel rings to form the weave

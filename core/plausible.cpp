@@ -54,6 +54,9 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   for (int pinned : resolve_pins(scene, weave)) model_.inverse_mass[pinned] = 0.0;
   const double max_length = settings.max_link_fraction * ring.inner_diameter();
   model_.edges = colour_ordered_edges(weave, ring.min_link_distance(), max_length);
+  model_.extended_swivel = settings.swivel_fit          ? fitted_extended_swivel(ring, max_length)
+                           : settings.swivel_extended > 0 ? settings.swivel_extended
+                                                          : ring.wire_radius / ring.centre_radius;
   // breadth-first depth from the pins orders the outward pass
   {
     std::vector<int> depth(n, -1), queue;
@@ -271,7 +274,7 @@ void PlausibleSim::orient() {
   OrientationSettings settings;
   settings.max_link_distance = model_.settings.max_link_fraction * model_.ring.inner_diameter();
   settings.swivel = model_.settings.swivel;
-  settings.extended_angle = model_.settings.swivel_extended;
+  settings.extended_angle = model_.extended_swivel;
   orient_rings(state_.position, weave_, model_.ring, settings, state_.orientation);
 }
 

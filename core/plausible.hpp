@@ -27,6 +27,8 @@ struct PlausibleSettings {
   double contact_margin = 0.0;        // m, collider skin around a ring centre; 0 = a + c sin(a/c)
   bool swivel = true;                 // paper §4 swivel (4in1)
   double swivel_extended = 0.0;       // rad, swivel at full extension; 0 = the paper's a/c
+  // take the swivel at full extension from the ring geometry (fitted_extended_swivel) instead
+  bool swivel_fit = false;
   // after the sweeps, one pass outward from the pins that moves only the ring farther from a pin
   // (Provot's fixed-end rule; shock propagation): removes the stretch a hanging sheet accumulates
   // when Gauss-Seidel sweeps alone would need O(rows^2) iterations
@@ -52,6 +54,7 @@ struct PlausibleModel {
   bool self_contact = true;
   double repulsion_range = 0.0;  // m
   double contact_margin = 0.0;   // m
+  double extended_swivel = 0.0;  // rad, swivel at full extension (a/c, the knob, or fitted)
   PlausibleSettings settings;
 };
 

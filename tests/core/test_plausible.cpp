@@ -6,6 +6,7 @@
 #include <set>
 #include <utility>
 
+#include "core/geometry.hpp"
 #include "core/orientation.hpp"
 #include "core/plausible.hpp"
 
@@ -174,6 +175,55 @@ TEST(Orientation, SwivelFromExtendedToCompressed) {
                orientation(3, interior));
   const Quat f(flat(0, interior), flat(1, interior), flat(2, interior), flat(3, interior));
   EXPECT_NEAR(q.angularDistance(f), a_over_c, 1e-9);
+}
+
+// penetrating pairs among interior neighbours (both rings with four neighbours) of a sheet whose
+// neighbours all sit at the maximum link distance
+int penetrating_neighbours_at_full_extension(const RingGeometry& ring, double extended) {
+  const Scene scene = curtain(6, 6);
+  const Weave weave = make_weave(scene.weave, ring);
+  const double max_link = 0.95 * ring.inner_diameter();
+  const double rest =
+      (weave.rest_position.col(weave.links[0].a) - weave.rest_position.col(weave.links[0].b))
+          .norm();
+  const Positions stretched = weave.rest_position * (max_link / rest);
+  Orientations orientation = weave.rest_orientation;
+  orient_rings(stretched, weave, ring, OrientationSettings{max_link, true, extended}, orientation);
+  int penetrating = 0;
+  auto interior = [&](int k) {
+    for (int other : weave.neighbours[k]) {
+      if (other < 0) return false;
+    }
+    return true;
+  };
+  for (const RingPair& link : weave.links) {
+    if (!interior(link.a) || !interior(link.b)) continue;
+    auto circle = [&](int k) {
+      const Quat q(orientation(0, k), orientation(1, k), orientation(2, k), orientation(3, k));
+      return ring_circle(stretched.col(k), q, ring.centre_radius);
+    };
+    const Circle first = circle(link.a), second = circle(link.b);
+    EXPECT_TRUE(circles_linked(first, second));
+    penetrating += tori_interpenetrate(first, second, ring.wire_radius, 1e-3 * ring.wire_radius);
+  }
+  return penetrating;
+}
+
+TEST(Orientation, FittedSwivelClearsNeighboursWhereAOverCDoesNot) {
+  // the paper's a/c at full extension leaves AR-5 neighbours interpenetrating; the fitted angle,
+  // larger, leaves every neighbour pair linked and clear, for every aspect ratio the weave allows
+  for (double aspect : {4.0, 5.0, 6.0, 8.0}) {
+    SCOPED_TRACE(aspect);
+    const RingGeometry ring = RingGeometry::from_diameters(0.0016, 0.0016 * aspect, 7850.0);
+    const double fitted = fitted_extended_swivel(ring, 0.95 * ring.inner_diameter());
+    const double a_over_c = ring.wire_radius / ring.centre_radius;
+    EXPECT_GT(fitted, a_over_c);
+    EXPECT_LT(fitted, 0.5 * std::numbers::pi);
+    EXPECT_EQ(penetrating_neighbours_at_full_extension(ring, fitted), 0);
+    if (aspect == 5.0) {
+      EXPECT_GT(penetrating_neighbours_at_full_extension(ring, a_over_c), 0);
+    }
+  }
 }
 
 TEST(Plausible, ContactCandidatesHoldEveryPairInRange) {
