@@ -112,6 +112,41 @@ class RingPairFilter final : public btOverlapFilterCallback {
   }
 };
 
+// Bullet's narrow phase with each pair's work timed under the stage it belongs to: linked
+// neighbours ("links"), a ring against a scene collider ("colliders"), two rings that are not
+// neighbours ("self_contact"). A scene without colliders or self-contact has no such pairs (the
+// broad-phase filter drops them), so those stages never appear, as in every other backend.
+class ProfiledDispatcher final : public btCollisionDispatcher {
+ public:
+  ProfiledDispatcher(btCollisionConfiguration* configuration, StageProfile& profile,
+                     const std::vector<std::array<int, 4>>& neighbours)
+      : btCollisionDispatcher(configuration), profile_(profile), neighbours_(neighbours) {
+    setNearCallback(&near_callback);
+  }
+
+ private:
+  static void near_callback(btBroadphasePair& pair, btCollisionDispatcher& dispatcher,
+                            const btDispatcherInfo& info) {
+    auto& self = static_cast<ProfiledDispatcher&>(dispatcher);
+    const int ring0 = static_cast<const btCollisionObject*>(pair.m_pProxy0->m_clientObject)
+                          ->getUserIndex();
+    const int ring1 = static_cast<const btCollisionObject*>(pair.m_pProxy1->m_clientObject)
+                          ->getUserIndex();
+    const char* stage = "self_contact";
+    if (ring0 < 0 || ring1 < 0) {
+      stage = "colliders";
+    } else {
+      const auto& around = self.neighbours_[ring0];
+      if (std::find(around.begin(), around.end(), ring1) != around.end()) stage = "links";
+    }
+    auto scope = self.profile_.scope(stage);
+    btCollisionDispatcher::defaultNearCallback(pair, dispatcher, info);
+  }
+
+  StageProfile& profile_;
+  const std::vector<std::array<int, 4>>& neighbours_;
+};
+
 // Bullet's discrete world with its phases timed into the backend's StageProfile
 class ProfiledWorld final : public btDiscreteDynamicsWorld {
  public:
@@ -121,7 +156,7 @@ class ProfiledWorld final : public btDiscreteDynamicsWorld {
       : btDiscreteDynamicsWorld(dispatcher, broadphase, solver, configuration), profile_(profile) {}
 
   void performDiscreteCollisionDetection() override {
-    auto scope = profile_.scope("collide");
+    auto scope = profile_.scope("collision_detection");
     btDiscreteDynamicsWorld::performDiscreteCollisionDetection();
   }
   void solveConstraints(btContactSolverInfo& info) override {
@@ -172,7 +207,7 @@ class BulletBackend final : public Backend {
 
   // Bullet's world; members are released in reverse order of construction by release()
   std::unique_ptr<btDefaultCollisionConfiguration> configuration_;
-  std::unique_ptr<btCollisionDispatcher> dispatcher_;
+  std::unique_ptr<ProfiledDispatcher> dispatcher_;
   std::unique_ptr<btDbvtBroadphase> broadphase_;
   std::unique_ptr<btSequentialImpulseConstraintSolver> solver_;
   std::unique_ptr<ProfiledWorld> world_;
@@ -223,7 +258,7 @@ void BulletBackend::reset(const Scene& scene, const Weave& weave, const Knobs& k
 
 void BulletBackend::build_world() {
   configuration_ = std::make_unique<btDefaultCollisionConfiguration>();
-  dispatcher_ = std::make_unique<btCollisionDispatcher>(configuration_.get());
+  dispatcher_ = std::make_unique<ProfiledDispatcher>(configuration_.get(), profile_, neighbours_);
   broadphase_ = std::make_unique<btDbvtBroadphase>();
   broadphase_->getOverlappingPairCache()->setOverlapFilterCallback(&pair_filter_);
   solver_ = std::make_unique<btSequentialImpulseConstraintSolver>();

@@ -422,8 +422,12 @@ class OdeBackend final : public Backend {
 
     if (body1 && body2) {
       const int ring1 = ring_of(body1), ring2 = ring_of(body2);
-      if (!self_contact_ && !are_neighbours(ring1, ring2)) return;
-      collide_rings(ring1, ring2);
+      if (are_neighbours(ring1, ring2)) {
+        collide_rings(ring1, ring2);
+      } else if (self_contact_) {
+        auto scope = profile_.scope("self_contact");
+        collide_rings(ring1, ring2);
+      }
     } else {
       const int ring = ring_of(body1 ? body1 : body2);
       dGeomID collider = body1 ? second : first;

@@ -386,7 +386,7 @@ void step(const Model& model, State& state, double dt, StageProfile& profile) {
   }
   const bool colliders = !model.colliders.empty();
   if (colliders) {
-    auto scope = profile.scope("collide");
+    auto scope = profile.scope("colliders");
     std::fill(state.contact.begin(), state.contact.end(), 0);
     collide(model, state);
   }
@@ -394,12 +394,12 @@ void step(const Model& model, State& state, double dt, StageProfile& profile) {
   const int rounds = model.settings.self_collision ? model.settings.contact_rounds : 0;
   for (int round = 0; round < rounds; ++round) {
     {
-      auto scope = profile.scope("self_collide");
+      auto scope = profile.scope("self_contact");
       self_collide(model, state);
     }
     // self-collision may have pushed a free mass into a collider: colliders have the last word
     if (colliders) {
-      auto scope = profile.scope("collide");
+      auto scope = profile.scope("colliders");
       collide(model, state);
     }
   }

@@ -230,7 +230,7 @@ void PlausibleSim::propagate_from_pins() {
 }
 
 void PlausibleSim::collide() {
-  auto scope = profile_.scope("collide");
+  auto scope = profile_.scope("colliders");
   const int n = static_cast<int>(state_.position.cols());
   for (int i = 0; i < n; ++i) {
     if (model_.inverse_mass[i] == 0.0) continue;

@@ -1,5 +1,7 @@
 // Per-stage counters: which phases of a step ran, how often and for how long.
-// A stage a scene does not need never runs, so it never appears here.
+// A stage a scene does not need never runs, so it never appears here. Every backend names two
+// stages alike: "colliders" (rings against the scene's colliders) and "self_contact" (rings
+// that are not neighbours); the rest are each backend's own phases.
 #pragma once
 
 #include <chrono>
@@ -15,7 +17,7 @@ struct StageStats {
 
 class StageProfile {
  public:
-  // time one stage: `auto scope = profile.scope("collide");`
+  // time one stage: `auto scope = profile.scope("colliders");`
   class Scope {
    public:
     Scope(StageStats& stats) : stats_(stats), start_(std::chrono::steady_clock::now()) {}

@@ -156,7 +156,9 @@ BackendRun run_backend(const Scene& scene, const Weave& weave, const std::string
       if (run.samples.back().t < run.dt * step) sample(step);
       break;
     }
-    if (options.progress && seconds_since(last_progress) > (terminal ? 1.0 : 10.0)) {
+    // the first line after a second, then every second on a terminal, every ten in a log
+    if (options.progress &&
+        seconds_since(last_progress) > (terminal || !progress_shown ? 1.0 : 10.0)) {
       last_progress = Clock::now();
       progress_shown = true;
       std::fprintf(stderr, "%s  %-10s t = %7.3f / %.3f s  %8.3f ms/step%s", terminal ? "\r" : "",

@@ -168,16 +168,17 @@ int sweep_command(const SweepCommand& command) {
     for (const auto& s : points[k].sets) line += " --set " + shell_quote(s);
     return line;
   };
-  if (command.print_jobs) {
-    for (size_t k = 0; k < points.size(); ++k) std::printf("%s\n", job_line(k).c_str());
-    return kExitOk;
-  }
-
   // every point is measured against the base scene's reference run, whatever the point's knobs
+  // (printed jobs too: a point that varies the reference backend's dt must not be its own
+  // reference)
   const double reference_dt = base.reference_dt > 0.0
                                   ? base.reference_dt
                                   : resolve_knobs(base, *find_backend(base.reference)).at("dt");
   for (auto& p : points) p.sets.push_back("reference_dt=" + csv_number(reference_dt));
+  if (command.print_jobs) {
+    for (size_t k = 0; k < points.size(); ++k) std::printf("%s\n", job_line(k).c_str());
+    return kExitOk;
+  }
 
   // the reference run once, before the points share it through the cache
   RunOptions reference_options;
@@ -214,7 +215,9 @@ int sweep_command(const SweepCommand& command) {
       continue;
     }
     const json& b = summary["backends"][p.backend];
-    const double duration = summary["scene"]["duration"].get<double>();
+    // cost per simulated second of what was simulated: an unstable run stops early
+    const double simulated = b["steps"].get<double>() * b["dt"].get<double>();
+    const double duration = simulated > 0.0 ? simulated : summary["scene"]["duration"].get<double>();
     const double error =
         b["final"].contains("drape_rms") ? b["final"]["drape_rms"].get<double>() : NAN;
     const double cat = b.contains("catenary_error") ? b["catenary_error"].get<double>() : NAN;

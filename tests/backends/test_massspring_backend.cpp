@@ -169,15 +169,15 @@ TEST(MassSpringBackend, StagesForLeftOutFeaturesNeverRun) {
   const auto& stages = plain.backend->profile().stages();
   EXPECT_EQ(stages.at("forces").calls, 10);
   EXPECT_EQ(stages.at("integrate").calls, 10);
-  EXPECT_EQ(stages.count("collide"), 0u);
-  EXPECT_EQ(stages.count("self_collide"), 0u);
+  EXPECT_EQ(stages.count("colliders"), 0u);
+  EXPECT_EQ(stages.count("self_contact"), 0u);
 
   BackendRun all(mail_scene({{"substeps", 3}}, true, true));
   all.steps(10);
   const auto& more = all.backend->profile().stages();
   EXPECT_EQ(more.at("forces").calls, 30);
-  EXPECT_GT(more.at("collide").calls, 0);
-  EXPECT_GT(more.at("self_collide").calls, 0);
+  EXPECT_GT(more.at("colliders").calls, 0);
+  EXPECT_GT(more.at("self_contact").calls, 0);
   EXPECT_NEAR(all.frame().t, 10.0 / 2700.0, 1e-15);
 }
 

@@ -338,7 +338,7 @@ TEST(MassSpring, SameSceneTwiceGivesBitIdenticalPositions) {
   EXPECT_EQ(std::memcmp(a.state.position.data(), b.state.position.data(),
                         sizeof(double) * a.state.position.size()),
             0);
-  EXPECT_GT(a.profile.stages().at("self_collide").calls, 0);
+  EXPECT_GT(a.profile.stages().at("self_contact").calls, 0);
 }
 
 // --- colliders -----------------------------------------------------------------------------------
@@ -419,7 +419,7 @@ TEST(MassSpring, NoMassBelowThePlaneAfterContact) {
     }
   }
   EXPECT_GT(touching, 0);
-  EXPECT_EQ(sim.profile.stages().count("self_collide"), 0u);  // the scene turns it off
+  EXPECT_EQ(sim.profile.stages().count("self_contact"), 0u);  // the scene turns it off
 }
 
 // --- self-collision ------------------------------------------------------------------------------
