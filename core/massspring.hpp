@@ -39,7 +39,7 @@ struct Settings {
   double max_extension = 0.1;        // springs are kept within (1 + max_extension) rest
   bool self_collision = false;       // the self_collide stage runs only when set
   double thickness = 0.0;            // m; no two masses closer than this (self-collision)
-  int self_collision_passes = 4;     // projection sweeps over the candidate pairs per step
+  int self_collision_passes = 16;    // most projection sweeps over the candidate pairs per step
   double self_collision_skin = 0.5;  // candidate search reach beyond the thickness, x thickness
   int contact_rounds = 2;            // self_collide + collide rounds per step
   double areal_density = 0.0;        // kg/m^2; 0 = every mass weighs point_mass

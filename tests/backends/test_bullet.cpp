@@ -175,16 +175,12 @@ TEST(Bullet, SameSceneGivesBitIdenticalFrames) {
 }
 
 TEST(Bullet, ChainSagMatchesCatenary) {
-  // a horizontal chain pinned at both end rings, span 0.75 of its length; heavy damping only
-  // shortens settling, the equilibrium does not depend on it
-  constexpr int kRings = 60;
-  BulletRun run(
-      {{"name", "chain_catenary"},
-       {"weave", {{"type", "chain"}, {"cols", kRings}, {"plane", "xy"}, {"spacing", 0.75}}},
-       {"pins", {{{"ring", {0, 0}}}, {{"ring", {0, kRings - 1}}}}},
-       {"duration", 4.0},
-       {"backends", {{"bullet", {{"linear_damping", 0.95}, {"angular_damping", 0.95}}}}}});
-  run.advance(4.0);
+  // the bench scene itself: a horizontal chain pinned at both end rings, span 0.75 of its length,
+  // damped so that it settles within the scene's duration
+  const Scene scene = load_scene_file(CHAINMAIL_SOURCE_DIR "/bench/scenes/chain_catenary.json");
+  const int kRings = scene.weave.cols;
+  BulletRun run(scene.resolved);
+  run.advance(scene.duration);
 
   // catenary through the pinned ring centres with the chain's length (n - 1) ID
   const double span = (run.frame.position.col(kRings - 1) - run.frame.position.col(0)).norm();

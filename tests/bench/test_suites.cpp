@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -79,7 +80,7 @@ TEST(Stages, WhatASceneLeavesOutNeverRuns) {
   }
 }
 
-TEST(Catenary, ErrorOfTheExactCatenaryIsZero) {
+TEST(Catenary, ZeroOnTheCatenaryOneForAStraightChain) {
   const Scene scene = load_scene_file(CHAINMAIL_SOURCE_DIR "/bench/scenes/chain_catenary.json");
   const Weave weave = make_weave(scene.weave, scene.ring);
   RingFrame frame;
@@ -88,6 +89,21 @@ TEST(Catenary, ErrorOfTheExactCatenaryIsZero) {
   // the straight rest chain has no sag: error 1 (100 %)
   ASSERT_TRUE(catenary_error(scene, weave, frame).has_value());
   EXPECT_NEAR(*catenary_error(scene, weave, frame), 1.0, 1e-12);
+  // rings lowered onto the catenary of the chain's length (n - 1) * 2(c - a): error 0
+  const int n = weave.size();
+  const double span = (weave.rest_position.col(n - 1) - weave.rest_position.col(0)).norm();
+  const double length = (n - 1) * scene.ring.max_link_distance();
+  double low = 1e-6, high = 1e3;  // m; 2A sinh(span / 2A) falls as A grows
+  for (int k = 0; k < 200; ++k) {
+    const double mid = 0.5 * (low + high);
+    (2.0 * mid * std::sinh(span / (2.0 * mid)) > length ? low : high) = mid;
+  }
+  const double A = 0.5 * (low + high);
+  for (int i = 0; i < n; ++i) {
+    const double x = (weave.rest_position.col(i) - weave.rest_position.col(0)).norm() - 0.5 * span;
+    frame.position(1, i) -= A * (std::cosh(0.5 * span / A) - std::cosh(x / A));
+  }
+  EXPECT_NEAR(*catenary_error(scene, weave, frame), 0.0, 1e-3);  // rings sample the curve
   // a sheet is not a chain: no catenary error
   const Scene curtain = load_scene_file(CHAINMAIL_SOURCE_DIR "/bench/scenes/curtain.json");
   const Weave sheet = make_weave(curtain.weave, curtain.ring);
@@ -147,19 +163,32 @@ TEST(Bench, QuickModeWritesEveryResultsFile) {
   BenchCommand bench;
   bench.out_dir = out.string();
   bench.quick = true;
-  bench.backends = {"plausible"};
+  bench.backends = {"plausible", "massspring"};  // massspring brings the stiffness study
   bench.executable = chainmail_binary();
   bench.render = false;
   bench.progress = false;
   ASSERT_EQ(bench_command(bench), kExitOk);
   for (const char* file :
-       {"README.md", "timing.md", "timing.csv", "metrics.md", "sweep/sweep.csv",
+       {"README.md", "timing.md", "timing.csv", "metrics.md", "sweep/curtain/sweep.csv",
+        "sweep/table_cloth/sweep.csv",
         "stability/stability.md", "stability/stability.csv", "curtain/summary.json",
         "table_cloth/metrics.csv", "chain_catenary/table.md", "chain_pile/summary.json",
         "sphere_drape/summary.json"}) {
     EXPECT_TRUE(fs::exists(out / file)) << file;
   }
-  EXPECT_EQ(count_lines(out / "timing.csv"), 1 + 5);  // five scenes, one backend
+  EXPECT_EQ(count_lines(out / "timing.csv"), 1 + 5 * 2);  // five scenes, two backends
+  if (!plotting_python().empty()) {
+    EXPECT_TRUE(fs::exists(out / "sweep/curtain/sweep.png"));
+    EXPECT_TRUE(fs::exists(out / "sweep/table_cloth/sweep.png"));
+  }
+  // every stability case has a row, the stiffness study's included
+  std::ifstream stability(out / "stability/stability.csv");
+  const std::string table((std::istreambuf_iterator<char>(stability)),
+                          std::istreambuf_iterator<char>());
+  for (const char* row : {"heavy_weight,plausible", "corners_pushed,massspring",
+                          "springs_ks_500,massspring", "springs_ks_500000,massspring"}) {
+    EXPECT_NE(table.find(row), std::string::npos) << row;
+  }
   fs::remove_all(out);
 }
 
