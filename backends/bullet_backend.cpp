@@ -334,7 +334,8 @@ void BulletBackend::add_colliders(const Scene& scene) {
 void BulletBackend::add_rings(const Scene& scene, const Weave& weave) {
   // analytic torus mass and principal inertia (local axes: ring in X/Z, axis Y)
   const double scale = settings_.length_scale;
-  const btScalar mass = static_cast<btScalar>(scene.ring.mass());
+  // a loaded ring (the scene's loads) scales mass and inertia by its mass factor
+  const std::vector<double> masses = ring_masses(scene, weave);
   const btVector3 inertia = to_bt(scene.ring.inertia(), scale * scale);
   std::vector<bool> pinned(weave.size(), false);
   for (int ring : resolve_pins(scene, weave)) pinned[ring] = true;
@@ -345,8 +346,11 @@ void BulletBackend::add_rings(const Scene& scene, const Weave& weave) {
                                   static_cast<btScalar>(q(3)), static_cast<btScalar>(q(0))),
                      to_bt(weave.rest_position.col(ring), scale));
     // a pinned ring is a static body: infinite mass, never moves
+    const btScalar factor = static_cast<btScalar>(masses[ring] / scene.ring.mass());
+    const btScalar mass = static_cast<btScalar>(masses[ring]);
     btRigidBody::btRigidBodyConstructionInfo info(pinned[ring] ? 0 : mass, nullptr, torus_.get(),
-                                                  pinned[ring] ? btVector3(0, 0, 0) : inertia);
+                                                  pinned[ring] ? btVector3(0, 0, 0)
+                                                               : inertia * factor);
     info.m_startWorldTransform = pose;
     info.m_friction = static_cast<btScalar>(scene.ring_friction);
     info.m_restitution = static_cast<btScalar>(settings_.restitution);
@@ -354,6 +358,7 @@ void BulletBackend::add_rings(const Scene& scene, const Weave& weave) {
     info.m_angularDamping = static_cast<btScalar>(settings_.angular_damping);
     auto body = std::make_unique<btRigidBody>(info);
     body->setUserIndex(ring);
+    if (!pinned[ring]) body->setLinearVelocity(to_bt(scene.initial_velocity, scale));
     body->setActivationState(DISABLE_DEACTIVATION);  // no sleeping: a resting sheet is still solved
     body->setContactProcessingThreshold(
         static_cast<btScalar>(settings_.contact_processing_threshold * scale));

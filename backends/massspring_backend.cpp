@@ -36,6 +36,12 @@ class MassSpringBackend final : public Backend {
     model_ = massspring::make_model(scene, weave_, settings_from(scene, weave_, knobs));
     state_ = massspring::make_state(model_, weave_.rest_position);
     substeps_ = static_cast<int>(knobs.at("substeps"));
+    // the scene's initial velocity, as Verlet holds it: the previous position one step back
+    const double h = knobs.at("dt") / substeps_;
+    for (int m = 0; m < state_.size(); ++m) {
+      if (model_.inv_mass[m] > 0.0) state_.previous.col(m) -= h * scene.initial_velocity;
+    }
+    state_.last_dt = h;
     flip_ = massspring::normal_signs(weave_);
     profile_.clear();
   }

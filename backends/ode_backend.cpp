@@ -157,7 +157,8 @@ class OdeBackend final : public Backend {
     failed_ = false;
 
     build_world(scene, weave);
-    build_rings(weave, resolve_pins(scene, weave));
+    build_rings(weave, resolve_pins(scene, weave), ring_masses(scene, weave),
+                scene.initial_velocity);
     build_colliders(scene);
   }
 
@@ -237,17 +238,17 @@ class OdeBackend final : public Backend {
     return order[0] | (order[1] << 2) | (order[2] << 4);  // the dSAP_AXES_* encoding
   }
 
-  void build_rings(const Weave& weave, const std::vector<int>& pinned) {
+  // masses (n, kg) carry the scene's loads; every free ring starts at `velocity` (m/s)
+  void build_rings(const Weave& weave, const std::vector<int>& pinned,
+                   const std::vector<double>& masses, const Vec3& velocity) {
     const double scale = settings_.length_scale;
     const int n = weave.size();
     const CapsuleRing shape =
         capsule_ring(ring_.centre_radius, ring_.wire_radius, settings_.pieces);
 
     // mass in ring masses: 1 per ring, inertia of the analytic torus (local Y is the ring axis)
+    // (a loaded ring scales both by its mass factor)
     const Vec3 inertia = ring_.inertia() / ring_.mass() * (scale * scale);
-    dMass mass;
-    dMassSetParameters(&mass, 1.0, 0.0, 0.0, 0.0, inertia.x(), inertia.y(), inertia.z(), 0.0, 0.0,
-                       0.0);
 
     // mid phase: a piece (centre m, half length l) can touch another ring's compound only when m
     // is within l + a of that compound, which lies within a + e of its centre circle
@@ -263,13 +264,18 @@ class OdeBackend final : public Backend {
       dBodyID body = dBodyCreate(world_);
       bodies_[i] = body;
       dBodySetData(body, reinterpret_cast<void*>(static_cast<std::intptr_t>(i)));
+      const double factor = masses[i] / ring_.mass();
+      dMass mass;
+      dMassSetParameters(&mass, factor, 0.0, 0.0, 0.0, factor * inertia.x(), factor * inertia.y(),
+                         factor * inertia.z(), 0.0, 0.0, 0.0);
       dBodySetMass(body, &mass);
       const Vec3 p = scale * weave.rest_position.col(i);
       dBodySetPosition(body, p.x(), p.y(), p.z());
       const dQuaternion q = {weave.rest_orientation(0, i), weave.rest_orientation(1, i),
                              weave.rest_orientation(2, i), weave.rest_orientation(3, i)};
       dBodySetQuaternion(body, q);
-      dBodySetLinearVel(body, 0.0, 0.0, 0.0);
+      const Vec3 v = scale * velocity;
+      dBodySetLinearVel(body, v.x(), v.y(), v.z());
       dBodySetAngularVel(body, 0.0, 0.0, 0.0);
 
       // the ring's bounding sphere for the broad phase; it is never collided itself
@@ -298,7 +304,10 @@ class OdeBackend final : public Backend {
       }
     }
     // pins: kinematic bodies (infinite mass) held at their rest pose
-    for (int i : pinned) dBodySetKinematic(bodies_[i]);
+    for (int i : pinned) {
+      dBodySetKinematic(bodies_[i]);
+      dBodySetLinearVel(bodies_[i], 0.0, 0.0, 0.0);
+    }
   }
 
   void build_colliders(const Scene& scene) {

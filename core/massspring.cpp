@@ -239,8 +239,11 @@ Model make_model(const Scene& scene, const Weave& weave, const Settings& setting
     throw std::invalid_argument(
         "massspring: mass per point is not positive (areal density needs a sheet with area)");
   }
-  model.mass = Eigen::VectorXd::Constant(n, m);
-  model.inv_mass = Eigen::VectorXd::Constant(n, 1.0 / m);
+  // the scene's loads scale their rings' masses
+  const std::vector<double> ring_mass = ring_masses(scene, weave);
+  model.mass.resize(n);
+  for (int i = 0; i < n; ++i) model.mass[i] = m * (ring_mass[i] / scene.ring.mass());
+  model.inv_mass = model.mass.cwiseInverse();
   model.pinned.assign(n, 0);
   for (int ring : resolve_pins(scene, weave)) {
     model.pinned[ring] = 1;

@@ -18,7 +18,8 @@ struct RunCommand {
   std::string out_dir;                // empty: results/<scene name>
   bool frames = false;
   bool render = false;
-  std::string shader;  // cloth shader for --render
+  std::string shader;    // cloth shader for --render
+  std::string material;  // ring material for --render (empty: steel)
   std::vector<std::string> overrides;
   bool progress = true;
   std::string cache_dir = "results/.cache";

@@ -14,8 +14,9 @@ namespace chainmail {
 
 #if CHAINMAIL_HAVE_RENDER
 std::function<void(const SceneRun&, const std::string&)> make_render_writer(
-    const std::string& cloth_shader) {
+    const std::string& cloth_shader, const std::string& material) {
   render::RenderSettings settings;
+  if (!material.empty()) settings.material = material;
   // the textured-cloth baseline shows a chainmail texture unless another shader is asked for
   settings.cloth_shader = cloth_shader.empty() ? "texture" : cloth_shader;
   std::shared_ptr<render::Renderer> renderer;
@@ -62,7 +63,8 @@ std::function<void(const SceneRun&, const std::string&)> make_render_writer(
   };
 }
 #else
-std::function<void(const SceneRun&, const std::string&)> make_render_writer(const std::string&) {
+std::function<void(const SceneRun&, const std::string&)> make_render_writer(const std::string&,
+                                                                          const std::string&) {
   throw SceneError(
       "--render: this build has no renderer (configured with CHAINMAIL_WITH_RENDER=OFF)");
 }

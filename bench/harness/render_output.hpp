@@ -10,7 +10,8 @@ namespace chainmail {
 
 // a writer for OutputOptions::render; creating it checks that GL and the shaders are available
 // (throws SceneError-like errors that the command line maps to exit status 2)
+// (`cloth_shader`, `material`: empty for the defaults, texture and steel)
 std::function<void(const SceneRun&, const std::string&)> make_render_writer(
-    const std::string& cloth_shader);
+    const std::string& cloth_shader, const std::string& material = "");
 
 }  // namespace chainmail

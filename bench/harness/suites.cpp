@@ -491,6 +491,10 @@ int bench_command(const BenchCommand& command) {
   };
   const std::string out = command.out_dir;
   const auto started = std::chrono::steady_clock::now();
+  // reference runs are cached by scene and knobs, not by build: a bench starts with an empty cache
+  // so that a changed backend is never measured against its old self
+  std::error_code ignored;
+  fs::remove_all(out + "/.cache", ignored);
   std::function<void(const SceneRun&, const std::string&)> render;
   if (command.render) {
     try {

@@ -144,6 +144,12 @@ TEST_F(Cli, RenderWritesOnePanelImagePerSample) {
   ASSERT_EQ(run.status, 0) << run.output;
   EXPECT_TRUE(fs::exists(fs::path(out()) / "images" / "00000.png"));
   EXPECT_TRUE(fs::exists(fs::path(out()) / "images" / "00005.png"));  // 0.05 s at 0.01 s samples
+  // an unknown material is bad input, refused before anything runs
+  const Outcome bad = chainmail("run " + scene() + " --render --material unobtainium --quiet --out " +
+                                (dir_ / "bad").string() + cache());
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.output.find("unobtainium"), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(dir_ / "bad"));
 }
 
 }  // namespace

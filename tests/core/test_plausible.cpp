@@ -175,6 +175,31 @@ TEST(Orientation, SwivelFromExtendedToCompressed) {
                orientation(3, interior));
   const Quat f(flat(0, interior), flat(1, interior), flat(2, interior), flat(3, interior));
   EXPECT_NEAR(q.angularDistance(f), a_over_c, 1e-9);
+
+  // the model under compression (neighbours at the wire thickness 2a): every interior ring turns
+  // by pi/2 about its swivel axis, one way or the other by the weave's parity, so that neighbours
+  // in adjacent rows lean opposite ways
+  Positions compressed = weave.rest_position * (ring.min_link_distance() / rest);
+  Orientations swivelled = weave.rest_orientation, unswivelled = weave.rest_orientation;
+  orient_rings(compressed, weave, ring, OrientationSettings{max_link, true, 0.0}, swivelled);
+  orient_rings(compressed, weave, ring, OrientationSettings{max_link, false, 0.0}, unswivelled);
+  int positive = 0, negative = 0;
+  for (int i = 0; i < weave.size(); ++i) {
+    bool interior = true;
+    for (int other : weave.neighbours[i]) interior &= other >= 0;
+    if (!interior) continue;
+    const Quat turned(swivelled(0, i), swivelled(1, i), swivelled(2, i), swivelled(3, i));
+    const Quat plain(unswivelled(0, i), unswivelled(1, i), unswivelled(2, i), unswivelled(3, i));
+    // the turn in the ring's own frame, about its swivel axis (1, 0, -1)/sqrt(2) (equal spacing)
+    const Quat relative = plain.conjugate() * turned;
+    const double along = relative.vec().dot(Vec3(1.0, 0.0, -1.0).normalized());
+    const double signed_angle = 2.0 * std::atan2(along, relative.w());
+    EXPECT_NEAR(std::abs(signed_angle), 0.5 * std::numbers::pi, 1e-9) << "ring " << i;
+    EXPECT_EQ(signed_angle > 0 ? 1 : -1, weave.parity[i]) << "ring " << i;
+    (signed_angle > 0 ? positive : negative) += 1;
+  }
+  EXPECT_GT(positive, 0);
+  EXPECT_GT(negative, 0);
 }
 
 // penetrating pairs among interior neighbours (both rings with four neighbours) of a sheet whose

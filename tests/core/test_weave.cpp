@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "core/geometry.hpp"
+#include "core/spatial_hash.hpp"
 #include "core/weave.hpp"
 
 namespace chainmail {
@@ -76,6 +79,8 @@ INSTANTIATE_TEST_SUITE_P(
                       WeaveCase{WeaveType::four_in_one, 8, 8, 5.0, SheetPlane::yz},
                       WeaveCase{WeaveType::four_in_one, 5, 9, 6.0, SheetPlane::xz},
                       WeaveCase{WeaveType::four_in_one, 6, 6, 8.0, SheetPlane::xy},
+                      WeaveCase{WeaveType::four_in_one, 5, 6, 5.0, SheetPlane::yx},
+                      WeaveCase{WeaveType::chain, 1, 9, 5.0, SheetPlane::yx},
                       WeaveCase{WeaveType::four_in_one, 1, 5, 5.0, SheetPlane::xz},
                       WeaveCase{WeaveType::four_in_one, 2, 1, 5.0, SheetPlane::xz}));
 
@@ -123,6 +128,45 @@ TEST(Weave, LargeSheetTopologyIsConsistent) {
     const Vec3 d1 =
         weave.rest_position.col(weave.neighbours[corner][slot]) - weave.rest_position.col(corner);
     EXPECT_NEAR((d0 - d1).norm(), 0.0, 1e-12);
+  }
+}
+
+TEST(Weave, LargeSheetsLinkNeighboursOnlyAndNeverInterpenetrate) {
+  // 256 x 256 at the smallest and largest aspect ratio the issue names: every neighbour pair and
+  // every other pair close enough to touch (centres within 2(c + a), found through the spatial
+  // hash) checked with the geometry functions; pairs farther apart cannot touch or link
+  for (double aspect : {4.0, 8.0}) {
+    SCOPED_TRACE(aspect);
+    const RingGeometry ring = RingGeometry::from_diameters(0.0016, aspect * 0.0016, 7850.0);
+    WeaveSpec spec;
+    spec.rows = 256;
+    spec.cols = 256;
+    const Weave weave = make_weave(spec, ring);
+    const int n = weave.size();
+    std::vector<Circle> circles(n);
+    for (int i = 0; i < n; ++i) {
+      const auto q = weave.rest_orientation.col(i);
+      circles[i] = ring_circle(weave.rest_position.col(i), Quat(q(0), q(1), q(2), q(3)),
+                               ring.centre_radius);
+    }
+    const double reach = 2.0 * (ring.centre_radius + ring.wire_radius);
+    SpatialHash hash;
+    hash.build(weave.rest_position, reach);
+    long long near = 0, linked = 0, clashes = 0, wrong = 0;
+    hash.for_each_pair(weave.rest_position, reach, [&](int i, int j) {
+      ++near;
+      const bool neighbours =
+          std::find(weave.neighbours[i].begin(), weave.neighbours[i].end(), j) !=
+          weave.neighbours[i].end();
+      const bool is_linked = circles_linked(circles[i], circles[j]);
+      linked += is_linked;
+      wrong += is_linked != neighbours;
+      clashes += tori_interpenetrate(circles[i], circles[j], ring.wire_radius, 0.0);
+    });
+    EXPECT_EQ(linked, static_cast<long long>(weave.links.size()));
+    EXPECT_EQ(wrong, 0);
+    EXPECT_EQ(clashes, 0);
+    EXPECT_GT(near, static_cast<long long>(weave.links.size()));  // others were checked too
   }
 }
 
