@@ -1,26 +1,11 @@
 // Bullet rigid-torus backend: every ring one rigid body whose collision shape is a compound of
-// capsules. The pure geometry of that torus approximation is declared here so tests can check it.
+// capsules (core/capsule_torus.hpp).
 #pragma once
 
 #include "backends/backend.hpp"
+#include "core/capsule_torus.hpp"
 
 namespace chainmail {
-
-// a torus (wire radius a, centre radius c) approximated by `pieces` capsules of radius a along the
-// chords of a regular polygon; the polygon's vertex radius balances the error at the vertices
-// (outside the centre circle) against the error at the chord midpoints (inside it)
-struct CapsuleTorus {
-  int pieces = 0;
-  double vertex_radius = 0.0;       // m, polygon vertices from the ring centre
-  double midpoint_radius = 0.0;     // m, chord midpoints from the ring centre
-  double capsule_length = 0.0;      // m, chord length: distance of a capsule's sphere centres
-  double surface_error = 0.0;       // m, largest distance of the compound's surface from the torus
-  double inner_diameter_min = 0.0;  // m, inner diameter across opposite chord midpoints
-  double inner_diameter_max = 0.0;  // m, inner diameter across opposite vertices
-  double inner_diameter_error = 0.0;  // m, largest |inner diameter - ID| over directions
-};
-
-CapsuleTorus capsule_torus(double wire_radius, double centre_radius, int pieces);
 
 BackendInfo bullet_backend_info();
 

@@ -20,39 +20,12 @@
 #include <vector>
 
 #include "backends/backend.hpp"
+#include "core/capsule_torus.hpp"
 
 namespace chainmail {
 
-// pure geometry of the capsule torus (outside the anonymous namespace so that tests can reach it)
-namespace ode_detail {
-
-// a ring as N capsules of wire radius a along the chords of a regular N-gon in the ring plane
-struct CapsuleRing {
-  double vertex_radius = 0.0;   // R, m: distance of the polygon vertices from the ring centre
-  double chord_length = 0.0;    // m: capsule axis length (cylinder part, caps excluded)
-  double surface_error = 0.0;   // m: largest distance between compound and torus surfaces
-  double inner_diameter = 0.0;  // m: smallest inner diameter of the compound (at chord midpoints)
-};
-
-// R balances the two extremes of the polygon against the centre circle: vertices lie R - c
-// outside it, chord midpoints c - R cos(pi/N) inside. Equal errors give R = 2c / (1 + cos(pi/N))
-// and a surface error e = c tan^2(pi / 2N); both surfaces are offsets by a of these curves.
-CapsuleRing capsule_ring(double centre_radius, double wire_radius, int pieces) {
-  const double half_angle = std::numbers::pi / pieces;
-  CapsuleRing ring;
-  ring.vertex_radius = 2.0 * centre_radius / (1.0 + std::cos(half_angle));
-  ring.chord_length = 2.0 * ring.vertex_radius * std::sin(half_angle);
-  ring.surface_error = ring.vertex_radius - centre_radius;
-  ring.inner_diameter = 2.0 * (ring.vertex_radius * std::cos(half_angle) - wire_radius);
-  return ring;
-}
-
-}  // namespace ode_detail
-
 namespace {
 
-using ode_detail::capsule_ring;
-using ode_detail::CapsuleRing;
 
 // ---------------------------------------------------------------------------------------------
 // process-wide ODE set-up
@@ -243,8 +216,8 @@ class OdeBackend final : public Backend {
                    const std::vector<double>& masses, const Vec3& velocity) {
     const double scale = settings_.length_scale;
     const int n = weave.size();
-    const CapsuleRing shape =
-        capsule_ring(ring_.centre_radius, ring_.wire_radius, settings_.pieces);
+    const CapsuleTorus shape =
+        capsule_torus(ring_.wire_radius, ring_.centre_radius, settings_.pieces);
 
     // mass in ring masses: 1 per ring, inertia of the analytic torus (local Y is the ring axis)
     // (a loaded ring scales both by its mass factor)
@@ -252,9 +225,9 @@ class OdeBackend final : public Backend {
 
     // mid phase: a piece (centre m, half length l) can touch another ring's compound only when m
     // is within l + a of that compound, which lies within a + e of its centre circle
-    piece_reach_ = (0.5 * shape.chord_length + 2.0 * ring_.wire_radius + shape.surface_error) *
+    piece_reach_ = (0.5 * shape.capsule_length + 2.0 * ring_.wire_radius + shape.surface_error) *
                    scale * (1.0 + 1e-9);
-    piece_pair_reach_ = (shape.chord_length + 2.0 * ring_.wire_radius) * scale * (1.0 + 1e-9);
+    piece_pair_reach_ = (shape.capsule_length + 2.0 * ring_.wire_radius) * scale * (1.0 + 1e-9);
     centre_radius_internal_ = ring_.centre_radius * scale;
     wire_radius_internal_ = ring_.wire_radius * scale;
 
@@ -287,11 +260,11 @@ class OdeBackend final : public Backend {
       // pieces live in no space: the mid phase picks them per ring pair
       for (int k = 0; k < settings_.pieces; ++k) {
         const double phi = (2.0 * k + 1.0) * std::numbers::pi / settings_.pieces;
-        const double midpoint = shape.vertex_radius * std::cos(std::numbers::pi / settings_.pieces);
+        const double midpoint = shape.midpoint_radius;
         const Vec3 radial(std::cos(phi), 0.0, std::sin(phi));
         const Vec3 tangent(-std::sin(phi), 0.0, std::cos(phi));
         dGeomID capsule =
-            dCreateCapsule(nullptr, ring_.wire_radius * scale, shape.chord_length * scale);
+            dCreateCapsule(nullptr, ring_.wire_radius * scale, shape.capsule_length * scale);
         pieces_.push_back(capsule);
         dGeomSetBody(capsule, body);
         dGeomSetOffsetPosition(capsule, midpoint * scale * radial.x(), 0.0,

@@ -53,20 +53,25 @@ Metrics measure(const RingFrame& frame, const Weave& weave, const Scene& scene,
   std::vector<Circle> circles(n);
   for (int i = 0; i < n; ++i) circles[i] = ring_circle(frame.position.col(i), frame.quat(i), c);
 
-  // linked pairs: stretch, interpenetration, still linked
+  // linked pairs: stretch, interpenetration, still linked. A plain grid (the cloth scenes) has no
+  // rings: its stretch is against each edge's rest length and the ring-pair counts stay 0
+  const bool rings = weave.type != WeaveType::grid;
   double stretch_sum = 0.0;
   for (const RingPair& link : weave.links) {
+    const double length = (frame.position.col(link.a) - frame.position.col(link.b)).norm();
     const double stretch =
-        (frame.position.col(link.a) - frame.position.col(link.b)).norm() / ring.max_link_distance();
+        length / (rings ? ring.max_link_distance()
+                        : (weave.rest_position.col(link.a) - weave.rest_position.col(link.b)).norm());
     m.max_stretch = std::max(m.max_stretch, stretch);
     stretch_sum += stretch;
+    if (!rings) continue;
     m.penetrating_linked += tori_interpenetrate(circles[link.a], circles[link.b], a, tolerance);
     m.broken_links += !circles_linked(circles[link.a], circles[link.b]);
   }
   if (!weave.links.empty()) m.mean_stretch = stretch_sum / weave.links.size();
 
   // other pairs: only those whose centres are close enough to touch or link (< 2c + 2a)
-  if (options.other_pairs && n > 1) {
+  if (options.other_pairs && n > 1 && rings) {
     std::unordered_set<long long> linked;
     for (const RingPair& link : weave.links)
       linked.insert(static_cast<long long>(link.a) * n + link.b);

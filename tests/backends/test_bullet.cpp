@@ -12,6 +12,7 @@
 #include <numbers>
 
 #include "backends/backend.hpp"
+#include "collider_cases.hpp"
 #include "backends/bullet_backend.hpp"
 #include "core/geometry.hpp"
 #include "core/metrics.hpp"
@@ -58,48 +59,10 @@ Knobs default_knobs() {
   return resolve_knobs(scene, *find_backend("bullet"));
 }
 
-TEST(Bullet, TorusApproximationMatchesSampledPolygon) {
-  // default ring: WD 1.6 mm, ID 8 mm (c / a = 6)
+TEST(Bullet, DefaultPiecesKeepErrorUnderTwoPercentOfWireRadius) {
   const RingGeometry ring = RingGeometry::from_diameters(0.0016, 0.008, 7850.0);
   const double a = ring.wire_radius, c = ring.centre_radius;
   const int pieces = static_cast<int>(default_knobs().at("pieces"));
-
-  for (int n : {pieces, 7, 12}) {
-    const CapsuleTorus fit = capsule_torus(a, c, n);
-    // sample the polygon's sides: distance to the centre circle, and its radial extent per angle
-    double deviation = 0.0;
-    constexpr int kAngles = 3600;
-    std::vector<double> radius(kAngles, 0.0);  // polygon radius by direction (binned), m
-    for (int piece = 0; piece < n; ++piece) {
-      const double s0 = 2.0 * std::numbers::pi * piece / n;
-      const double s1 = 2.0 * std::numbers::pi * (piece + 1) / n;
-      const Eigen::Vector2d v0 = fit.vertex_radius * Eigen::Vector2d(std::cos(s0), std::sin(s0));
-      const Eigen::Vector2d v1 = fit.vertex_radius * Eigen::Vector2d(std::cos(s1), std::sin(s1));
-      EXPECT_NEAR((v1 - v0).norm(), fit.capsule_length, 1e-12);
-      for (int k = 0; k <= 2000; ++k) {
-        const Eigen::Vector2d p = v0 + (v1 - v0) * (k / 2000.0);
-        deviation = std::max(deviation, std::abs(p.norm() - c));
-        double angle = std::atan2(p.y(), p.x());
-        if (angle < 0) angle += 2.0 * std::numbers::pi;
-        const int bin =
-            std::min(kAngles - 1, static_cast<int>(angle / (2.0 * std::numbers::pi) * kAngles));
-        radius[bin] = std::max(radius[bin], p.norm());
-      }
-    }
-    EXPECT_NEAR(fit.surface_error, deviation, 1e-7 * c) << n << " pieces";
-    // the balanced polygon errs equally outside (vertices) and inside (chord midpoints)
-    EXPECT_NEAR(fit.vertex_radius - c, c - fit.midpoint_radius, 1e-12);
-
-    // inner diameter through the centre: opposite sides less the wire
-    double id_min = 1e9, id_max = 0.0;
-    for (int bin = 0; bin < kAngles / 2; ++bin) {
-      const double across = radius[bin] + radius[bin + kAngles / 2] - 2.0 * a;
-      id_min = std::min(id_min, across), id_max = std::max(id_max, across);
-    }
-    EXPECT_NEAR(fit.inner_diameter_min, id_min, 5e-4 * c) << n << " pieces";
-    EXPECT_NEAR(fit.inner_diameter_max, id_max, 5e-4 * c) << n << " pieces";
-  }
-
   // the default count keeps the surface within 2 % of the wire radius; fewer pieces would not.
   // The hole's diameter sums the errors of two opposite sides: within 4 % of a (0.4 % of the ID)
   const CapsuleTorus fit = capsule_torus(a, c, pieces);
@@ -115,14 +78,7 @@ TEST(Bullet, TorusApproximationMatchesSampledPolygon) {
 
 TEST(Bullet, RingsRestOnEveryColliderType) {
   const double top = 0.01;  // m, collider top surface height
-  const std::vector<json> colliders = {
-      {{"type", "plane"}, {"point", {0.0, top, 0.0}}},
-      {{"type", "sphere"}, {"center", {0.0, top - 0.05, 0.0}}, {"radius", 0.05}},
-      {{"type", "box"}, {"center", {0.0, top - 0.02, 0.0}}, {"half_extents", {0.05, 0.02, 0.05}}},
-      {{"type", "cylinder"},
-       {"center", {0.0, top - 0.02, 0.0}},
-       {"radius", 0.05},
-       {"half_height", 0.02}}};
+  const std::vector<json> colliders = test::colliders_with_top_at(top);
   for (const json& collider : colliders) {
     BulletRun run({{"name", "ring_on_collider"},
                    {"weave",
