@@ -112,10 +112,13 @@ double drape_rms(const RingFrame& frame, const RingFrame& reference) {
 
 double projected_area(const RingFrame& frame, double centre_radius, double cell) {
   if (frame.size() == 0) return 0.0;
-  // rasterise the disks of radius c onto an x/z grid and count covered cells
+  // rasterise the disks of radius c onto an x/z grid and count covered cells; a frame spread far
+  // (a run blowing up) gets coarser cells, so the grid stays within 2^24 cells
   const double r = centre_radius;
   const double x0 = frame.position.row(0).minCoeff() - r, x1 = frame.position.row(0).maxCoeff() + r;
   const double z0 = frame.position.row(2).minCoeff() - r, z1 = frame.position.row(2).maxCoeff() + r;
+  if (!std::isfinite(x1 - x0) || !std::isfinite(z1 - z0)) return std::nan("");
+  cell = std::max(cell, std::sqrt((x1 - x0) * (z1 - z0) / double(1 << 24)));
   const int nx = static_cast<int>(std::ceil((x1 - x0) / cell)) + 1;
   const int nz = static_cast<int>(std::ceil((z1 - z0) / cell)) + 1;
   std::vector<unsigned char> covered(static_cast<size_t>(nx) * nz, 0);
@@ -123,6 +126,7 @@ double projected_area(const RingFrame& frame, double centre_radius, double cell)
   for (int i = 0; i < frame.size(); ++i) {
     const double px = frame.position(0, i), pz = frame.position(2, i);
     const int cx = static_cast<int>((px - x0) / cell), cz = static_cast<int>((pz - z0) / cell);
+    covered[static_cast<size_t>(std::min(cx, nx - 1)) * nz + std::min(cz, nz - 1)] = 1;  // its own
     for (int ix = std::max(0, cx - span); ix <= std::min(nx - 1, cx + span); ++ix) {
       for (int iz = std::max(0, cz - span); iz <= std::min(nz - 1, cz + span); ++iz) {
         const double qx = x0 + (ix + 0.5) * cell - px, qz = z0 + (iz + 0.5) * cell - pz;

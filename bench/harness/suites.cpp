@@ -190,6 +190,9 @@ int sweep_command(const SweepCommand& command) {
   std::mutex print;
   std::atomic<int> done{0};
   run_parallel(static_cast<int>(points.size()), command.jobs, [&](int k) {
+    // a point's old results must never stand in for a run that failed
+    std::error_code ignored;
+    fs::remove_all(out + "/points/" + std::to_string(k), ignored);
     const std::string line =
         job_line(k) + " >" + shell_quote(out + "/points/" + std::to_string(k) + ".log") + " 2>&1";
     std::system(line.c_str());

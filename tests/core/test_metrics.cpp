@@ -107,6 +107,12 @@ TEST(Metrics, DrapeCoefficientIsOneFlatAndFallsAsTheSheetHangs) {
   const Metrics m = measure(draped, s.weave, s.scene);
   EXPECT_LT(*m.drape_coefficient, 0.6);
   EXPECT_GT(*m.drape_coefficient, 0.0);
+  // a frame flung kilometres apart (a run blowing up) is still measured, on a coarser raster
+  RingFrame flung = s.frame;
+  flung.position *= 1e6;
+  const Metrics far = measure(flung, s.weave, s.scene);
+  ASSERT_TRUE(far.drape_coefficient.has_value());
+  EXPECT_GT(*far.drape_coefficient, 1.0);
 }
 
 TEST(Metrics, ClothGridStretchIsAgainstRestLengthAndHasNoRingCounts) {
