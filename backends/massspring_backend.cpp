@@ -22,8 +22,10 @@ massspring::Settings settings_from(const Scene& scene, const Weave& weave, const
   // self-collision only when the scene asks for it; thickness 0 = the ring's wire thickness 2a
   s.self_collision = scene.self_contact;
   s.thickness = knobs.at("thickness") > 0.0 ? knobs.at("thickness") : scene.ring.wire_diameter();
-  // a ring centre stays a wire radius above a surface; cloth masses sit on it
-  s.collision_margin = weave.type == WeaveType::grid ? 0.0 : scene.ring.wire_radius;
+  // a ring centre stays a wire radius above a surface; a cloth mass a tenth of the thickness, so
+  // that the flat triangles between masses do not cut into a curved collider
+  s.collision_margin =
+      weave.type == WeaveType::grid ? 0.1 * s.thickness : scene.ring.wire_radius;
   return s;
 }
 

@@ -21,7 +21,7 @@ vec3 blinn_phong(vec3 albedo, vec3 n, vec3 v, float shininess) {
   return albedo * (0.12 + 0.7 * diffuse) + vec3(0.5) * specular;
 }
 
-// the ring texture's colour: metal on the wire, dark in the gaps
+// the ring texture's colour: metal on the wire, dark in the gaps (which texture modes discard)
 vec3 ring_albedo(float height) {
   return height > 0.0 ? u_material * (0.45 + 0.55 * height) : vec3(0.06);
 }
@@ -41,6 +41,9 @@ void main() {
   vec3 n = normalize(v_normal);
   if (!gl_FrontFacing) n = -n;
   float height = ring_texture_height(v_uv);
+  // the chainmail texture is alpha-tested, as textured mail is drawn in practice: the gaps between
+  // the painted rings are holes through which the scene shows
+  if ((u_mode == 1 || u_mode == 2) && height <= 0.0) discard;
   vec3 color;
   if (u_mode == 0) {
     color = blinn_phong(u_material, n, v, 32.0);

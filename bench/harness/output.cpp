@@ -19,6 +19,13 @@ std::string csv_number(double value) {
   return buffer;
 }
 
+std::string table_number(double value, int significant) {
+  if (std::isnan(value)) return "-";
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.*g", significant, value);
+  return buffer;
+}
+
 void write_file_atomic(const std::string& path, const std::string& text) {
   if (fs::path(path).has_parent_path()) fs::create_directories(fs::path(path).parent_path());
   const std::string tmp = path + ".tmp";
@@ -138,10 +145,10 @@ std::string table_markdown(const SceneRun& run) {
         "| %s | %g | %.3f | %.2f | %s | %s | %.4f | %.4f | %lld | %lld | %lld | %lld | %s "
         "| %s |\n",
         b.name.c_str(), b.dt, b.ms_per_step(), b.realtime_factor(),
-        std::isnan(relative) ? "-" : (csv_number(relative) + "x").c_str(), b.verdict.c_str(),
+        std::isnan(relative) ? "-" : (table_number(relative, 3) + "x").c_str(), b.verdict.c_str(),
         m.max_stretch, m.mean_stretch, m.penetrating_linked, m.penetrating_other, m.broken_links,
-        m.false_links, m.drape_rms ? csv_number(1e3 * *m.drape_rms).c_str() : "-",
-        m.drape_coefficient ? csv_number(*m.drape_coefficient).c_str() : "-");
+        m.false_links, m.drape_rms ? table_number(1e3 * *m.drape_rms, 3).c_str() : "-",
+        m.drape_coefficient ? table_number(*m.drape_coefficient, 3).c_str() : "-");
     out << line;
   }
   out << "\nms/step counts `step()` only; real-time factor = simulated / wall seconds.\n";

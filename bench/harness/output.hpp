@@ -26,6 +26,8 @@ std::string frame_csv(const RingFrame& frame, const Weave& weave);
 
 // the number formatting every CSV uses (empty for NaN: an absent metric)
 std::string csv_number(double value);
+// a number for a Markdown table: `significant` digits, "-" for NaN
+std::string table_number(double value, int significant);
 
 struct OutputOptions {
   bool frames = false;  // frames/<backend>/<NNNNN>.csv

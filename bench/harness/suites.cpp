@@ -554,7 +554,7 @@ int bench_command(const BenchCommand& command) {
       std::snprintf(
           line, sizeof line, "| %s | %d | %s | %g | %.3f | %.2f | %s | %s |\n", scene.name.c_str(),
           run.weave.size(), r.name.c_str(), r.dt, r.ms_per_step(), r.realtime_factor(),
-          std::isnan(relative) ? "-" : (csv_number(relative) + "x").c_str(), r.verdict.c_str());
+          std::isnan(relative) ? "-" : (table_number(relative, 3) + "x").c_str(), r.verdict.c_str());
       timing << line;
       timing_csv << scene.name << ',' << run.weave.size() << ',' << r.name << ','
                  << csv_number(r.dt) << ',' << r.steps << ',' << csv_number(r.ms_per_step()) << ','
@@ -566,9 +566,9 @@ int bench_command(const BenchCommand& command) {
           "| %s | %s | %.4f | %.4f | %lld | %lld | %lld | %lld | %s | %s | %s |\n",
           scene.name.c_str(), r.name.c_str(), m.max_stretch, m.mean_stretch, m.penetrating_linked,
           m.penetrating_other, m.broken_links, m.false_links,
-          m.drape_rms ? csv_number(1e3 * *m.drape_rms).c_str() : "-",
-          m.drape_coefficient ? csv_number(*m.drape_coefficient).c_str() : "-",
-          r.catenary_error ? (csv_number(100.0 * *r.catenary_error) + " %").c_str() : "-");
+          m.drape_rms ? table_number(1e3 * *m.drape_rms, 3).c_str() : "-",
+          m.drape_coefficient ? table_number(*m.drape_coefficient, 3).c_str() : "-",
+          r.catenary_error ? (table_number(100.0 * *r.catenary_error, 3) + " %").c_str() : "-");
       metrics << line;
     }
   }
@@ -628,7 +628,10 @@ int bench_command(const BenchCommand& command) {
          "a range of dt per backend; `sweep.csv` (wall seconds per simulated second, drape error "
          "against the reference run) and `sweep.png` (log-log, Pareto front marked).\n"
          "- `stability/` — the stiff and extreme cases: verdict at default settings and the "
-         "largest stable dt found by bisection.\n";
+         "largest stable dt found by bisection.\n"
+         "- `curtain_30x30/` and `shaders/` come from their own commands, not from `bench`: "
+         "the curtain at the paper's size in every backend, rendered side by side "
+         "(`scripts/gallery.sh`), and one picture per cloth shader (`scripts/shaders.sh`).\n";
   const double minutes =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() / 60.0;
   char took[96];
