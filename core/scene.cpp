@@ -233,11 +233,19 @@ void read_pins(Scene& scene, Reader& top) {
     PinSpec pin;
     const int kinds = r.has("ring") + r.has("edge") + r.has("corner");
     if (kinds != 1) r.fail(r.key_path("ring"), "a pin names exactly one of ring, edge, corner");
-    if (r.has("ring")) {
+    if (r.has("ring") && (*pins)[p]["ring"].is_number_integer()) {
+      // a ring by its index in the weave (row-major: row * cols + col)
+      pin.kind = PinSpec::Kind::ring;
+      const int rows = scene.weave.type == WeaveType::chain ? 1 : scene.weave.rows;
+      const int index = r.integer("ring", std::nullopt, 0, rows * scene.weave.cols - 1);
+      pin.row = index / scene.weave.cols;
+      pin.col = index % scene.weave.cols;
+      resolved["ring"] = {pin.row, pin.col};
+    } else if (r.has("ring")) {
       pin.kind = PinSpec::Kind::ring;
       const json* ring = r.array("ring");
       if (ring->size() != 2 || !(*ring)[0].is_number_integer() || !(*ring)[1].is_number_integer()) {
-        r.fail(r.key_path("ring"), "must be [row, col] integers");
+        r.fail(r.key_path("ring"), "must be a ring index or [row, col] integers");
       }
       pin.row = (*ring)[0].get<int>();
       pin.col = (*ring)[1].get<int>();
@@ -354,7 +362,7 @@ Scene scene_from_json(const json& document, const std::string& file) {
       const json* ring = r.array("ring");
       if (!ring || ring->size() != 2 || !(*ring)[0].is_number_integer() ||
           !(*ring)[1].is_number_integer()) {
-        r.fail(r.key_path("ring"), "must be [row, col] integers");
+        r.fail(r.key_path("ring"), "must be a ring index or [row, col] integers");
       }
       load.row = (*ring)[0].get<int>();
       load.col = (*ring)[1].get<int>();

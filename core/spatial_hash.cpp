@@ -16,8 +16,7 @@ void SpatialHash::build(const Positions& points, double cell_size, int table_siz
   std::int64_t lo[3] = {0, 0, 0}, hi[3] = {-1, -1, -1};
   for (int i = 0; i < n; ++i) {
     const Vec3 p = points.col(i);
-    // non-finite, or beyond the 2^20 cells a packed key holds per axis: in no cell
-    if (!p.allFinite() || p.cwiseAbs().maxCoeff() * inv_cell_ > 1e6) continue;
+    if (!in_grid(p)) continue;
     cell[i] = {cell_of(p.x()), cell_of(p.y()), cell_of(p.z())};
     for (int a = 0; a < 3; ++a) {
       lo[a] = finite.empty() ? cell[i][a] : std::min(lo[a], cell[i][a]);

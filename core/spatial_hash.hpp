@@ -61,6 +61,10 @@ class SpatialHash {
   std::int64_t cell_of(double x) const {
     return static_cast<std::int64_t>(std::floor(x * inv_cell_));
   }
+  // finite and within the 2^20 cells a packed key holds per axis; other points are in no cell
+  bool in_grid(const Vec3& p) const {
+    return p.allFinite() && p.cwiseAbs().maxCoeff() * inv_cell_ <= 1e6;
+  }
   int bucket_of_key(std::uint64_t key) const {
     return static_cast<int>(mix_cell(key) & mask_);  // power-of-two table
   }
@@ -100,7 +104,7 @@ template <class Visit>
 void SpatialHash::for_each_near(const Positions& points, int i, double radius,
                                 Visit&& visit) const {
   const Vec3 p = points.col(i);
-  if (!p.allFinite()) return;
+  if (!in_grid(p)) return;
   const double r2 = radius * radius;
   const std::int64_t cx = cell_of(p.x()), cy = cell_of(p.y()), cz = cell_of(p.z());
   if (dense_) {
@@ -162,7 +166,7 @@ void SpatialHash::for_each_pair(const Positions& points, double radius, Visit&& 
   }
   for (int i = 0; i < points.cols(); ++i) {
     const Vec3 p = points.col(i);
-    if (!p.allFinite()) continue;
+    if (!in_grid(p)) continue;
     const std::int64_t cx = cell_of(p.x()), cy = cell_of(p.y()), cz = cell_of(p.z());
     for (std::int64_t dx = 0; dx <= 1; ++dx) {
       for (std::int64_t dy = dx == 0 ? 0 : -1; dy <= 1; ++dy) {

@@ -445,7 +445,7 @@ int stability_command(const StabilityCommand& command) {
           << csv_number(m.max_speed) << ',' << csv_number(run.ms_per_step()) << '\n';
       char line[512];
       std::snprintf(line, sizeof line,
-                    "| %s | %s | %g | %s | %s %g | %.3f | %lld | %lld | %.3g |\n", c.name.c_str(),
+                    "| %s | %s | %g | %s | %s %g | %.4g | %lld | %lld | %.3g |\n", c.name.c_str(),
                     name.c_str(), run.dt, run.verdict.c_str(),
                     dt.bound == "=" ? "" : dt.bound.c_str(), dt.largest, m.max_stretch,
                     m.broken_links, m.penetrating_linked, m.max_speed);

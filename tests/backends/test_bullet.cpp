@@ -90,11 +90,7 @@ TEST(Bullet, RingsRestOnEveryColliderType) {
                    {"colliders", {collider}},
                    {"duration", 0.6}});
     run.advance(0.6);
-    const double y = run.frame.position(1, 0);
-    EXPECT_GT(y, top) << collider["type"];
-    EXPECT_LT(y, top + 0.005) << collider["type"];  // it fell and stopped on the collider
-    EXPECT_LT(run.frame.velocity.col(0).norm(), 0.02) << collider["type"];
-    EXPECT_TRUE(run.backend->profile().stages().count("colliders")) << collider["type"];
+    test::expect_ring_resting_on(run.frame, run.backend->profile(), top, collider);
   }
 }
 

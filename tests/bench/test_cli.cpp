@@ -137,8 +137,8 @@ TEST_F(Cli, UnstableRunExitsOneWithItsVerdictWritten) {
 TEST_F(Cli, RenderWritesOnePanelImagePerSample) {
   const Outcome run =
       chainmail("run " + scene() + " --render --quiet --out " + out() + cache());
-  if (run.status == 2 && (run.output.find("renderer") != std::string::npos ||
-                          run.output.find("GL") != std::string::npos)) {
+  // a build or a machine without GL says so on one line, exit 2: nothing to check here then
+  if (run.status == 2 && run.output.find("--render:") != std::string::npos) {
     GTEST_SKIP() << "no renderer here: " << run.output;
   }
   ASSERT_EQ(run.status, 0) << run.output;

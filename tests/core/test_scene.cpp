@@ -115,6 +115,20 @@ TEST(SceneLoad, PinsMustNameExistingRings) {
   EXPECT_NE(error_of(doc).find("exactly one"), std::string::npos);
 }
 
+TEST(SceneLoad, PinByRingIndexIsRowMajor) {
+  json doc = minimal_scene();  // 4 rows of 5
+  doc["pins"] = json::array({{{"ring", 17}}});
+  const Scene scene = scene_from_json(doc, "scene.json");
+  ASSERT_EQ(scene.pins.size(), 1u);
+  EXPECT_EQ(scene.pins[0].row, 3);
+  EXPECT_EQ(scene.pins[0].col, 2);
+  EXPECT_EQ(scene.resolved["pins"][0]["ring"], json({3, 2}));
+  doc["pins"] = json::array({{{"ring", 20}}});
+  const std::string error = error_of(doc);
+  EXPECT_NE(error.find("'pins[0].ring'"), std::string::npos) << error;
+  EXPECT_NE(error.find("[0, 19]"), std::string::npos) << error;
+}
+
 TEST(SceneLoad, JsonSyntaxErrorHasLineAndColumn) {
   const auto path = std::filesystem::temp_directory_path() / "chainmail_bad_syntax.json";
   {

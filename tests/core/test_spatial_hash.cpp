@@ -113,5 +113,28 @@ TEST(SpatialHash, NonFinitePointsAreInNoPair) {
   EXPECT_EQ(found, expected);
 }
 
+TEST(SpatialHash, CoordinatesBeyondTheGridAreInNoPair) {
+  // two clusters a kilometre apart (a sparse box: the hashed layout) and two rings flung past
+  // what a cell key holds (a run blowing up): those two are in no pair and no query
+  Positions x = random_box(200, Vec3(0.05, 0.05, 0.05), 5);
+  for (int i = 100; i < 200; ++i) x(0, i) += 1000.0;
+  x.col(3) = Vec3(1e300, 0.0, 0.0);
+  x.col(4) = Vec3(0.0, -1e300, 0.0);
+  SpatialHash hash;
+  hash.build(x, 0.01);
+  EXPECT_FALSE(hash.dense());
+  PairSet found;
+  hash.for_each_pair(x, 0.01, [&](int i, int j) { found.insert({i, j}); });
+  PairSet expected;
+  for (const auto& pair : brute_force_pairs(x, 0.01)) {
+    if (pair.first != 3 && pair.first != 4 && pair.second != 3 && pair.second != 4)
+      expected.insert(pair);
+  }
+  EXPECT_EQ(found, expected);
+  int near_flung = 0;
+  hash.for_each_near(x, 3, 0.01, [&](int) { ++near_flung; });
+  EXPECT_EQ(near_flung, 0);
+}
+
 }  // namespace
 }  // namespace chainmail
