@@ -168,12 +168,20 @@ int sweep_command(const SweepCommand& command) {
     for (const auto& s : points[k].sets) line += " --set " + shell_quote(s);
     return line;
   };
-  // every point is measured against the base scene's reference run, whatever the point's knobs
-  // (printed jobs too: a point that varies the reference backend's dt must not be its own
-  // reference)
-  const double reference_dt = base.reference_dt > 0.0
-                                  ? base.reference_dt
-                                  : resolve_knobs(base, *find_backend(base.reference)).at("dt");
+  // every point is measured against one reference run, whatever the point's knobs (printed jobs
+  // too): the scene's reference_dt when it names one, else the reference backend at the finest dt
+  // that this sweep runs it at (or its dt in the scene, when the sweep does not run it)
+  double reference_dt = base.reference_dt;
+  if (reference_dt <= 0.0) {
+    const BackendInfo& reference = *find_backend(base.reference);
+    reference_dt = resolve_knobs(base, reference).at("dt");
+    for (const Point& p : points) {
+      if (p.backend != base.reference) continue;
+      reference_dt = std::min(
+          reference_dt,
+          resolve_knobs(load_scene_file(command.scene_file, p.sets), reference).at("dt"));
+    }
+  }
   for (auto& p : points) p.sets.push_back("reference_dt=" + csv_number(reference_dt));
   if (command.print_jobs) {
     for (size_t k = 0; k < points.size(); ++k) std::printf("%s\n", job_line(k).c_str());
@@ -184,7 +192,10 @@ int sweep_command(const SweepCommand& command) {
   RunOptions reference_options;
   reference_options.progress = command.progress;
   reference_options.cache_dir = command.cache_dir;
-  reference_frames(base, make_weave(base.weave, base.ring), reference_options, nullptr);
+  std::vector<std::string> reference_sets = command.overrides;
+  reference_sets.push_back("reference_dt=" + csv_number(reference_dt));
+  const Scene reference_scene = load_scene_file(command.scene_file, reference_sets);
+  reference_frames(reference_scene, make_weave(base.weave, base.ring), reference_options, nullptr);
 
   fs::create_directories(out + "/points");
   std::mutex print;

@@ -152,6 +152,20 @@ TEST(Sweep, PrintJobsListsEveryPoint) {
   for (char ch : printed) lines += ch == '\n';
   EXPECT_EQ(lines, 3);
   EXPECT_NE(printed.find("--set 'backends.plausible.dt=0.001'"), std::string::npos) << printed;
+  // the reference (bullet) is not swept: it runs at its dt in the scene
+  EXPECT_NE(printed.find("--set 'reference_dt=0.001'"), std::string::npos) << printed;
+  // a sweep over the reference backend's dt measures every point against its finest
+  sweep.backends = {"plausible", "bullet"};
+  sweep.vary = {"backends.{backend}.dt=0.004,0.0005"};
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(sweep_command(sweep), kExitOk);
+  const std::string finest = testing::internal::GetCapturedStdout();
+  int pinned = 0;
+  for (size_t at = 0; (at = finest.find("--set 'reference_dt=0.0005'", at)) != std::string::npos;
+       ++at) {
+    ++pinned;
+  }
+  EXPECT_EQ(pinned, 4) << finest;
   // a bad knob value is bad input before anything runs
   sweep.vary = {"backends.{backend}.dt=-1"};
   EXPECT_THROW(sweep_command(sweep), SceneError);
