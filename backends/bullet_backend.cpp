@@ -100,10 +100,10 @@ class ProfiledDispatcher final : public btCollisionDispatcher {
   static void near_callback(btBroadphasePair& pair, btCollisionDispatcher& dispatcher,
                             const btDispatcherInfo& info) {
     auto& self = static_cast<ProfiledDispatcher&>(dispatcher);
-    const int ring0 = static_cast<const btCollisionObject*>(pair.m_pProxy0->m_clientObject)
-                          ->getUserIndex();
-    const int ring1 = static_cast<const btCollisionObject*>(pair.m_pProxy1->m_clientObject)
-                          ->getUserIndex();
+    const int ring0 =
+        static_cast<const btCollisionObject*>(pair.m_pProxy0->m_clientObject)->getUserIndex();
+    const int ring1 =
+        static_cast<const btCollisionObject*>(pair.m_pProxy1->m_clientObject)->getUserIndex();
     const char* stage = "self_contact";
     if (ring0 < 0 || ring1 < 0) {
       stage = "colliders";
@@ -320,9 +320,9 @@ void BulletBackend::add_rings(const Scene& scene, const Weave& weave) {
     // a pinned ring is a static body: infinite mass, never moves
     const btScalar factor = static_cast<btScalar>(masses[ring] / scene.ring.mass());
     const btScalar mass = static_cast<btScalar>(masses[ring]);
-    btRigidBody::btRigidBodyConstructionInfo info(pinned[ring] ? 0 : mass, nullptr, torus_.get(),
-                                                  pinned[ring] ? btVector3(0, 0, 0)
-                                                               : inertia * factor);
+    btRigidBody::btRigidBodyConstructionInfo info(
+        pinned[ring] ? 0 : mass, nullptr, torus_.get(),
+        pinned[ring] ? btVector3(0, 0, 0) : inertia * factor);
     info.m_startWorldTransform = pose;
     info.m_friction = static_cast<btScalar>(scene.ring_friction);
     info.m_restitution = static_cast<btScalar>(settings_.restitution);

@@ -24,8 +24,7 @@ massspring::Settings settings_from(const Scene& scene, const Weave& weave, const
   s.thickness = knobs.at("thickness") > 0.0 ? knobs.at("thickness") : scene.ring.wire_diameter();
   // a ring centre stays a wire radius above a surface; a cloth mass a tenth of the thickness, so
   // that the flat triangles between masses do not cut into a curved collider
-  s.collision_margin =
-      weave.type == WeaveType::grid ? 0.1 * s.thickness : scene.ring.wire_radius;
+  s.collision_margin = weave.type == WeaveType::grid ? 0.1 * s.thickness : scene.ring.wire_radius;
   return s;
 }
 

@@ -26,7 +26,6 @@ namespace chainmail {
 
 namespace {
 
-
 // ---------------------------------------------------------------------------------------------
 // process-wide ODE set-up
 
@@ -260,15 +259,14 @@ class OdeBackend final : public Backend {
       // pieces live in no space: the mid phase picks them per ring pair
       for (int k = 0; k < settings_.pieces; ++k) {
         const double phi = (2.0 * k + 1.0) * std::numbers::pi / settings_.pieces;
-        const double midpoint = shape.midpoint_radius;
+        const double midpoint = shape.midpoint_radius * scale;  // internal units
         const Vec3 radial(std::cos(phi), 0.0, std::sin(phi));
         const Vec3 tangent(-std::sin(phi), 0.0, std::cos(phi));
         dGeomID capsule =
             dCreateCapsule(nullptr, ring_.wire_radius * scale, shape.capsule_length * scale);
         pieces_.push_back(capsule);
         dGeomSetBody(capsule, body);
-        dGeomSetOffsetPosition(capsule, midpoint * scale * radial.x(), 0.0,
-                               midpoint * scale * radial.z());
+        dGeomSetOffsetPosition(capsule, midpoint * radial.x(), 0.0, midpoint * radial.z());
         // columns: geom X = radial, geom Y = ring axis, geom Z = tangent (row-major 3x4)
         dMatrix3 rotation = {radial.x(), 0.0, tangent.x(), 0.0,  //
                              radial.y(), 1.0, tangent.y(), 0.0,  //

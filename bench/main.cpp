@@ -32,8 +32,9 @@ int main(int argc, char** argv) {
   run_app->add_option("--out", run.out_dir, "output folder (default results/<scene name>)");
   run_app->add_flag("--frames", run.frames, "write frames/<backend>/<NNNNN>.csv");
   run_app->add_flag("--render", run.render, "render side-by-side PNG frames into images/");
-  run_app->add_option("--shader", run.shader,
-                      "cloth shader for --render: blinn_phong, texture, bump, displacement, mirror");
+  run_app->add_option(
+      "--shader", run.shader,
+      "cloth shader for --render: blinn_phong, texture, bump, displacement, mirror");
   run_app->add_option("--material", run.material,
                       "ring material for --render: steel, silver, gold, copper, brass, bronze, "
                       "titanium");

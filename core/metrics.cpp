@@ -50,18 +50,20 @@ Metrics measure(const RingFrame& frame, const Weave& weave, const Scene& scene,
     return m;
   }
 
-  std::vector<Circle> circles(n);
-  for (int i = 0; i < n; ++i) circles[i] = ring_circle(frame.position.col(i), frame.quat(i), c);
-
   // linked pairs: stretch, interpenetration, still linked. A plain grid (the cloth scenes) has no
   // rings: its stretch is against each edge's rest length and the ring-pair counts stay 0
   const bool rings = weave.type != WeaveType::grid;
+  std::vector<Circle> circles(rings ? n : 0);
+  for (size_t i = 0; i < circles.size(); ++i) {
+    circles[i] = ring_circle(frame.position.col(i), frame.quat(static_cast<int>(i)), c);
+  }
   double stretch_sum = 0.0;
   for (const RingPair& link : weave.links) {
     const double length = (frame.position.col(link.a) - frame.position.col(link.b)).norm();
     const double stretch =
-        length / (rings ? ring.max_link_distance()
-                        : (weave.rest_position.col(link.a) - weave.rest_position.col(link.b)).norm());
+        length / (rings
+                      ? ring.max_link_distance()
+                      : (weave.rest_position.col(link.a) - weave.rest_position.col(link.b)).norm());
     m.max_stretch = std::max(m.max_stretch, stretch);
     stretch_sum += stretch;
     if (!rings) continue;

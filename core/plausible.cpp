@@ -54,7 +54,7 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   for (int pinned : resolve_pins(scene, weave)) model_.inverse_mass[pinned] = 0.0;
   const double max_length = settings.max_link_fraction * ring.inner_diameter();
   model_.edges = colour_ordered_edges(weave, ring.min_link_distance(), max_length);
-  model_.extended_swivel = settings.swivel_fit          ? fitted_extended_swivel(ring, max_length)
+  model_.extended_swivel = settings.swivel_fit            ? fitted_extended_swivel(ring, max_length)
                            : settings.swivel_extended > 0 ? settings.swivel_extended
                                                           : ring.wire_radius / ring.centre_radius;
   // breadth-first depth from the pins orders the outward pass

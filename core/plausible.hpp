@@ -24,9 +24,9 @@ struct PlausibleSettings {
   // candidate repulsion pairs are gathered within range * (1 + contact_skin) and kept until some
   // ring has moved half the skin (a Verlet list); 0 rebuilds from the spatial hash every step
   double contact_skin = 0.3;
-  double contact_margin = 0.0;        // m, collider skin around a ring centre; 0 = a + c sin(a/c)
-  bool swivel = true;                 // paper §4 swivel (4in1)
-  double swivel_extended = 0.0;       // rad, swivel at full extension; 0 = the paper's a/c
+  double contact_margin = 0.0;   // m, collider skin around a ring centre; 0 = a + c sin(a/c)
+  bool swivel = true;            // paper §4 swivel (4in1)
+  double swivel_extended = 0.0;  // rad, swivel at full extension; 0 = the paper's a/c
   // take the swivel at full extension from the ring geometry (fitted_extended_swivel) instead
   bool swivel_fit = false;
   // after the sweeps, one pass outward from the pins that moves only the ring farther from a pin

@@ -362,7 +362,7 @@ Scene scene_from_json(const json& document, const std::string& file) {
       const json* ring = r.array("ring");
       if (!ring || ring->size() != 2 || !(*ring)[0].is_number_integer() ||
           !(*ring)[1].is_number_integer()) {
-        r.fail(r.key_path("ring"), "must be a ring index or [row, col] integers");
+        r.fail(r.key_path("ring"), "must be [row, col] integers");
       }
       load.row = (*ring)[0].get<int>();
       load.col = (*ring)[1].get<int>();

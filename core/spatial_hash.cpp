@@ -32,7 +32,8 @@ void SpatialHash::build(const Positions& points, double cell_size, int table_siz
     dims_[a] = std::max<std::int64_t>(hi[a] - lo[a] + 1, 1);
     cells = std::min<std::int64_t>(cells * dims_[a], std::int64_t{1} << 40);
   }
-  dense_ = !finite.empty() && cells <= std::max<std::int64_t>(32 * static_cast<std::int64_t>(n), 4096);
+  dense_ =
+      !finite.empty() && cells <= std::max<std::int64_t>(32 * static_cast<std::int64_t>(n), 4096);
 
   std::int64_t table = 0;
   std::vector<std::uint64_t> key_of(n);

@@ -19,7 +19,8 @@ int run_command(const RunCommand& command) {
   OutputOptions output;
   output.frames = command.frames || scene.write_frames;
   if (command.render)
-    output.render = make_render_writer(command.shader, command.material);  // checks GL + shaders first
+    output.render =
+        make_render_writer(command.shader, command.material);  // checks GL + shaders first
 
   const SceneRun run = run_scene(scene, options);
   const std::string folder = command.out_dir.empty() ? "results/" + scene.name : command.out_dir;

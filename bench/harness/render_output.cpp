@@ -64,7 +64,7 @@ std::function<void(const SceneRun&, const std::string&)> make_render_writer(
 }
 #else
 std::function<void(const SceneRun&, const std::string&)> make_render_writer(const std::string&,
-                                                                          const std::string&) {
+                                                                            const std::string&) {
   throw SceneError(
       "--render: this build has no renderer (configured with CHAINMAIL_WITH_RENDER=OFF)");
 }

@@ -122,6 +122,7 @@ int sweep_command(const SweepCommand& command) {
     std::string backend;
     std::vector<std::string> values;  // one per axis
     std::vector<std::string> sets;    // effective --set overrides
+    double dt = 0.0;                  // s, the point's own backend's time step
   };
   std::vector<Point> points;
   std::vector<size_t> index(axes.size(), 0);
@@ -148,7 +149,9 @@ int sweep_command(const SweepCommand& command) {
         seen.push_back(effective);
         p.sets.insert(p.sets.end(), effective.begin(), effective.end());
         // validate now: a bad value is bad input before anything runs
-        validate_backend_knobs(load_scene_file(command.scene_file, p.sets));
+        const Scene scene = load_scene_file(command.scene_file, p.sets);
+        validate_backend_knobs(scene);
+        p.dt = resolve_knobs(scene, *find_backend(backend)).at("dt");
         points.push_back(p);
       }
       size_t a = 0;
@@ -173,16 +176,13 @@ int sweep_command(const SweepCommand& command) {
   // that this sweep runs it at (or its dt in the scene, when the sweep does not run it)
   double reference_dt = base.reference_dt;
   if (reference_dt <= 0.0) {
-    const BackendInfo& reference = *find_backend(base.reference);
-    reference_dt = resolve_knobs(base, reference).at("dt");
+    reference_dt = resolve_knobs(base, *find_backend(base.reference)).at("dt");
     for (const Point& p : points) {
-      if (p.backend != base.reference) continue;
-      reference_dt = std::min(
-          reference_dt,
-          resolve_knobs(load_scene_file(command.scene_file, p.sets), reference).at("dt"));
+      if (p.backend == base.reference) reference_dt = std::min(reference_dt, p.dt);
     }
   }
-  for (auto& p : points) p.sets.push_back("reference_dt=" + csv_number(reference_dt));
+  const std::string reference_set = "reference_dt=" + csv_number(reference_dt);
+  for (auto& p : points) p.sets.push_back(reference_set);
   if (command.print_jobs) {
     for (size_t k = 0; k < points.size(); ++k) std::printf("%s\n", job_line(k).c_str());
     return kExitOk;
@@ -193,7 +193,7 @@ int sweep_command(const SweepCommand& command) {
   reference_options.progress = command.progress;
   reference_options.cache_dir = command.cache_dir;
   std::vector<std::string> reference_sets = command.overrides;
-  reference_sets.push_back("reference_dt=" + csv_number(reference_dt));
+  reference_sets.push_back(reference_set);
   const Scene reference_scene = load_scene_file(command.scene_file, reference_sets);
   reference_frames(reference_scene, make_weave(base.weave, base.ring), reference_options, nullptr);
 
@@ -231,7 +231,8 @@ int sweep_command(const SweepCommand& command) {
     const json& b = summary["backends"][p.backend];
     // cost per simulated second of what was simulated: an unstable run stops early
     const double simulated = b["steps"].get<double>() * b["dt"].get<double>();
-    const double duration = simulated > 0.0 ? simulated : summary["scene"]["duration"].get<double>();
+    const double duration =
+        simulated > 0.0 ? simulated : summary["scene"]["duration"].get<double>();
     const double error =
         b["final"].contains("drape_rms") ? b["final"]["drape_rms"].get<double>() : NAN;
     const double cat = b.contains("catenary_error") ? b["catenary_error"].get<double>() : NAN;
@@ -345,8 +346,7 @@ std::vector<StabilityCase> stability_cases(bool quick) {
   }
   // the stiffness study on the document's own cloth (two pinned corners, 50 x 50 masses over
   // 1 m, dt 1/2700 s): structural and shear springs at ks, bending at ks / 5 as in the scene
-  const json cloth =
-      load_scene_file(source_dir() + "/bench/scenes/cloth/pinned2.json").resolved;
+  const json cloth = load_scene_file(source_dir() + "/bench/scenes/cloth/pinned2.json").resolved;
   for (double ks : {500.0, 5000.0, 50000.0, 500000.0}) {
     json s = cloth;
     char name[64];
@@ -418,7 +418,8 @@ int stability_command(const StabilityCommand& command) {
          "penetrating_linked,false_links,max_speed,ms_per_step\n";
   md << "# Stability suite\n\nEach case runs every backend at its default knobs (the verdict), "
         "then "
-        "bisects for the largest stable dt (log-space, 3 steps, 6 for the spring study; `>=` = stable at the top of the "
+        "bisects for the largest stable dt (log-space, 3 steps, 6 for the spring study; `>=` = "
+        "stable at the top of the "
         "searched range, `<` = unstable at the bottom).\n\n"
         "| case | backend | dt (s) | verdict | largest stable dt (s) | max_stretch | broken_links "
         "| "
@@ -447,7 +448,8 @@ int stability_command(const StabilityCommand& command) {
         std::fprintf(stderr, "  %s: %s\n", name.c_str(), e.what());
         continue;
       }
-      const DtSearch dt = largest_stable_dt(scene, weave, name, run.dt, run.stable, c.bisection_steps, search);
+      const DtSearch dt =
+          largest_stable_dt(scene, weave, name, run.dt, run.stable, c.bisection_steps, search);
       const Metrics& m = run.final_metrics();
       unstable += !run.stable;
       csv << c.name << ',' << name << ',' << csv_number(run.dt) << ',' << run.verdict << ','
@@ -562,10 +564,11 @@ int bench_command(const BenchCommand& command) {
     for (const auto& r : run.runs) {
       char line[512];
       const double relative = plausible_cost > 0 ? (r.ms_per_step() / r.dt) / plausible_cost : NAN;
-      std::snprintf(
-          line, sizeof line, "| %s | %d | %s | %g | %.3f | %.2f | %s | %s |\n", scene.name.c_str(),
-          run.weave.size(), r.name.c_str(), r.dt, r.ms_per_step(), r.realtime_factor(),
-          std::isnan(relative) ? "-" : (table_number(relative, 3) + "x").c_str(), r.verdict.c_str());
+      std::snprintf(line, sizeof line, "| %s | %d | %s | %g | %.3f | %.2f | %s | %s |\n",
+                    scene.name.c_str(), run.weave.size(), r.name.c_str(), r.dt, r.ms_per_step(),
+                    r.realtime_factor(),
+                    std::isnan(relative) ? "-" : (table_number(relative, 3) + "x").c_str(),
+                    r.verdict.c_str());
       timing << line;
       timing_csv << scene.name << ',' << run.weave.size() << ',' << r.name << ','
                  << csv_number(r.dt) << ',' << r.steps << ',' << csv_number(r.ms_per_step()) << ','
@@ -597,13 +600,12 @@ int bench_command(const BenchCommand& command) {
   for (const auto& [file, overrides] : sweeps) {
     SweepCommand sweep;
     sweep.scene_file = scenes + file;
-    sweep.overrides = command.quick ? std::vector<std::string>{"weave.rows=4", "weave.cols=4",
-                                                               "duration=0.05"}
-                                    : overrides;
+    sweep.overrides =
+        command.quick ? std::vector<std::string>{"weave.rows=4", "weave.cols=4", "duration=0.05"}
+                      : overrides;
     sweep.vary = {command.quick ? "backends.{backend}.dt=0.004,0.002"
                                 : "backends.{backend}.dt=0.008,0.004,0.002,0.001,0.0005"};
-    sweep.backends =
-        command.backends.empty() ? std::vector<std::string>{"all"} : command.backends;
+    sweep.backends = command.backends.empty() ? std::vector<std::string>{"all"} : command.backends;
     sweep.out_dir = out + "/sweep/" + fs::path(file).stem().string();
     sweep.jobs = command.jobs;
     sweep.executable = command.executable;

@@ -12,8 +12,8 @@
 #include <numbers>
 
 #include "backends/backend.hpp"
-#include "collider_cases.hpp"
 #include "backends/bullet_backend.hpp"
+#include "collider_cases.hpp"
 #include "core/geometry.hpp"
 #include "core/metrics.hpp"
 #include "core/scene.hpp"
@@ -70,10 +70,11 @@ TEST(Bullet, DefaultPiecesKeepErrorUnderTwoPercentOfWireRadius) {
   EXPECT_GT(capsule_torus(a, c, pieces - 2).surface_error, 0.02 * a);
   EXPECT_LE(fit.inner_diameter_error, 2.0 * fit.surface_error + 1e-12);
   EXPECT_LT(fit.inner_diameter_error, 0.04 * a);
-  std::printf("bullet torus, %d capsules: surface error %.2f %% of a, inner diameter error %.2f %% "
-              "of a (%.3f %% of ID)\n",
-              pieces, 100.0 * fit.surface_error / a, 100.0 * fit.inner_diameter_error / a,
-              100.0 * fit.inner_diameter_error / ring.inner_diameter());
+  std::printf(
+      "bullet torus, %d capsules: surface error %.2f %% of a, inner diameter error %.2f %% "
+      "of a (%.3f %% of ID)\n",
+      pieces, 100.0 * fit.surface_error / a, 100.0 * fit.inner_diameter_error / a,
+      100.0 * fit.inner_diameter_error / ring.inner_diameter());
 }
 
 TEST(Bullet, RingsRestOnEveryColliderType) {

@@ -19,7 +19,6 @@
 #include "core/scene.hpp"
 #include "core/weave.hpp"
 
-
 namespace chainmail {
 namespace {
 

@@ -45,7 +45,8 @@ class Cli : public testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
-           ("chainmail_test_cli_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
+           ("chainmail_test_cli_" +
+            std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -135,8 +136,7 @@ TEST_F(Cli, UnstableRunExitsOneWithItsVerdictWritten) {
 }
 
 TEST_F(Cli, RenderWritesOnePanelImagePerSample) {
-  const Outcome run =
-      chainmail("run " + scene() + " --render --quiet --out " + out() + cache());
+  const Outcome run = chainmail("run " + scene() + " --render --quiet --out " + out() + cache());
   // a build or a machine without GL says so on one line, exit 2: nothing to check here then
   if (run.status == 2 && run.output.find("--render:") != std::string::npos) {
     GTEST_SKIP() << "no renderer here: " << run.output;
@@ -145,8 +145,9 @@ TEST_F(Cli, RenderWritesOnePanelImagePerSample) {
   EXPECT_TRUE(fs::exists(fs::path(out()) / "images" / "00000.png"));
   EXPECT_TRUE(fs::exists(fs::path(out()) / "images" / "00005.png"));  // 0.05 s at 0.01 s samples
   // an unknown material is bad input, refused before anything runs
-  const Outcome bad = chainmail("run " + scene() + " --render --material unobtainium --quiet --out " +
-                                (dir_ / "bad").string() + cache());
+  const Outcome bad =
+      chainmail("run " + scene() + " --render --material unobtainium --quiet --out " +
+                (dir_ / "bad").string() + cache());
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.output.find("unobtainium"), std::string::npos) << bad.output;
   EXPECT_FALSE(fs::exists(dir_ / "bad"));

@@ -67,20 +67,20 @@ TEST(Run, BackendsReceiveIdenticalRestLayouts) {
 TEST(Run, EveryBackendStartsFreeRingsAtTheSceneInitialVelocity) {
   // one free ring thrown sideways without gravity: after 0.1 s it has moved v t in every backend
   // built into this binary
-  const Scene scene = scene_from_json(
-      json{{"name", "thrown"},
-           {"weave", {{"type", "4in1"}, {"rows", 1}, {"cols", 1}, {"plane", "xz"}}},
-           {"gravity", {0, 0, 0}},
-           {"initial_velocity", {0.5, 0, 0}},
-           {"duration", 0.1},
-           {"reference", "plausible"},
-           // undamped, so that v t is exact
-           {"backends",
-            {{"plausible", {{"damping", 0.0}}},
-             {"massspring", {{"damping_percent", 0.0}}},
-             {"bullet", {{"linear_damping", 0.0}}},
-             {"ode", {{"linear_damping", 0.0}}}}}},
-      "test");
+  const Scene scene =
+      scene_from_json(json{{"name", "thrown"},
+                           {"weave", {{"type", "4in1"}, {"rows", 1}, {"cols", 1}, {"plane", "xz"}}},
+                           {"gravity", {0, 0, 0}},
+                           {"initial_velocity", {0.5, 0, 0}},
+                           {"duration", 0.1},
+                           {"reference", "plausible"},
+                           // undamped, so that v t is exact
+                           {"backends",
+                            {{"plausible", {{"damping", 0.0}}},
+                             {"massspring", {{"damping_percent", 0.0}}},
+                             {"bullet", {{"linear_damping", 0.0}}},
+                             {"ode", {{"linear_damping", 0.0}}}}}},
+                      "test");
   const Weave weave = make_weave(scene.weave, scene.ring);
   int checked = 0;
   for (const BackendInfo& info : backend_registry()) {

@@ -99,12 +99,13 @@ TEST(CapsuleTorus, SurfaceErrorMatchesSampledDistanceToTheTorus) {
     const Vec3 across_midpoint = Vec3(std::cos(mid), 0.0, std::sin(mid));
     EXPECT_NEAR(compound_distance(0.5 * shape.inner_diameter_min * across_midpoint), 0.0, 1e-12);
     for (double s : {0.0, 0.5 * mid, 1.5 * mid}) {
-      EXPECT_GT(compound_distance(0.5 * shape.inner_diameter_min * Vec3(std::cos(s), 0.0, std::sin(s))),
-                0.0);
+      EXPECT_GT(
+          compound_distance(0.5 * shape.inner_diameter_min * Vec3(std::cos(s), 0.0, std::sin(s))),
+          0.0);
     }
     EXPECT_LT(shape.inner_diameter_min, ring.inner_diameter());
-    EXPECT_NEAR(shape.capsule_length, 2.0 * shape.vertex_radius * std::sin(std::numbers::pi / pieces),
-                1e-15);
+    EXPECT_NEAR(shape.capsule_length,
+                2.0 * shape.vertex_radius * std::sin(std::numbers::pi / pieces), 1e-15);
   }
 }
 

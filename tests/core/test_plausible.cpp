@@ -263,7 +263,8 @@ TEST(Plausible, ContactCandidatesHoldEveryPairInRange) {
              {"cols", 12},
              {"plane", "xz"},
              {"center", {0, 0.08, 0}}}},
-           {"colliders", json::array({{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 0.04}}})},
+           {"colliders",
+            json::array({{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 0.04}}})},
            {"duration", 1.0}},
       "test");
   const Weave weave = make_weave(scene.weave, scene.ring);

@@ -36,10 +36,11 @@ void expect_same_pairs(const SpatialHash& hash, const Positions& x, double radiu
   EXPECT_EQ(found, brute_force_pairs(x, radius));
   // for_each_near from every point gives the same pairs
   PairSet near;
-  for (int i = 0; i < x.cols(); ++i) hash.for_each_near(x, i, radius, [&](int j) {
-    EXPECT_GT(j, i);
-    near.insert({i, j});
-  });
+  for (int i = 0; i < x.cols(); ++i)
+    hash.for_each_near(x, i, radius, [&](int j) {
+      EXPECT_GT(j, i);
+      near.insert({i, j});
+    });
   EXPECT_EQ(near, found);
 }
 
@@ -84,7 +85,7 @@ TEST(SpatialHash, NegativeCoordinatesAndCellBoundaries) {
   // points exactly on cell faces and on both sides of zero
   Positions x(3, 8);
   x << -0.01, 0.0, 0.01, -0.02, 0.02, 0.0, 0.005, -0.005,  //
-      0.0, 0.0, 0.0, 0.01, -0.01, 0.0099, 0.0, 0.0,       //
+      0.0, 0.0, 0.0, 0.01, -0.01, 0.0099, 0.0, 0.0,        //
       0.0, -0.01, 0.01, 0.0, 0.0, 0.0, -0.0051, 0.0049;
   SpatialHash hash;
   hash.build(x, 0.01);

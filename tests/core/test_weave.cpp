@@ -146,8 +146,8 @@ TEST(Weave, LargeSheetsLinkNeighboursOnlyAndNeverInterpenetrate) {
     std::vector<Circle> circles(n);
     for (int i = 0; i < n; ++i) {
       const auto q = weave.rest_orientation.col(i);
-      circles[i] = ring_circle(weave.rest_position.col(i), Quat(q(0), q(1), q(2), q(3)),
-                               ring.centre_radius);
+      circles[i] =
+          ring_circle(weave.rest_position.col(i), Quat(q(0), q(1), q(2), q(3)), ring.centre_radius);
     }
     const double reach = 2.0 * (ring.centre_radius + ring.wire_radius);
     SpatialHash hash;
@@ -155,9 +155,8 @@ TEST(Weave, LargeSheetsLinkNeighboursOnlyAndNeverInterpenetrate) {
     long long near = 0, linked = 0, clashes = 0, wrong = 0;
     hash.for_each_pair(weave.rest_position, reach, [&](int i, int j) {
       ++near;
-      const bool neighbours =
-          std::find(weave.neighbours[i].begin(), weave.neighbours[i].end(), j) !=
-          weave.neighbours[i].end();
+      const bool neighbours = std::find(weave.neighbours[i].begin(), weave.neighbours[i].end(),
+                                        j) != weave.neighbours[i].end();
       const bool is_linked = circles_linked(circles[i], circles[j]);
       linked += is_linked;
       wrong += is_linked != neighbours;
