@@ -24,6 +24,7 @@ namespace chainmail::render {
   X(PFNGLDEPTHFUNCPROC, DepthFunc)                                           \
   X(PFNGLDEPTHMASKPROC, DepthMask)                                           \
   X(PFNGLCULLFACEPROC, CullFace)                                             \
+  X(PFNGLBLENDFUNCSEPARATEPROC, BlendFuncSeparate)                           \
   X(PFNGLREADPIXELSPROC, ReadPixels)                                         \
   X(PFNGLPIXELSTOREIPROC, PixelStorei)                                       \
   X(PFNGLFINISHPROC, Finish)                                                 \
@@ -77,6 +78,7 @@ namespace chainmail::render {
   X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                         \
   X(PFNGLUNIFORM1IPROC, Uniform1i)                                           \
   X(PFNGLUNIFORM1FPROC, Uniform1f)                                           \
+  X(PFNGLUNIFORM2FPROC, Uniform2f)                                           \
   X(PFNGLUNIFORM3FPROC, Uniform3f)                                           \
   X(PFNGLUNIFORM4FPROC, Uniform4f)                                           \
   X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)                             \

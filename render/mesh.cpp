@@ -137,6 +137,29 @@ Mesh torus_mesh(double wire_radius, double centre_radius, int segments_u, int se
   return mesh;
 }
 
+Mesh box_mesh() {
+  Mesh mesh;
+  mesh.stride = 6;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (double sign : {-1.0, 1.0}) {
+      Vector3d n = Vector3d::Zero(), u = Vector3d::Zero(), v = Vector3d::Zero();
+      n[axis] = sign;
+      u[(axis + 1) % 3] = 1.0;
+      v[(axis + 2) % 3] = 1.0;
+      if (sign < 0) std::swap(u, v);  // keeps u x v = n
+      const auto first = static_cast<std::uint32_t>(mesh.vertex_count());
+      for (const Vector3d& corner :
+           {Vector3d(n - u - v), Vector3d(n + u - v), Vector3d(n + u + v), Vector3d(n - u + v)}) {
+        push(mesh.vertices, corner);
+        push(mesh.vertices, n);
+      }
+      mesh.indices.insert(mesh.indices.end(),
+                          {first, first + 1, first + 2, first, first + 2, first + 3});
+    }
+  }
+  return mesh;
+}
+
 int lod_for_pixels(double diameter_pixels) {
   for (int level = 0; level < kLodLevels - 1; ++level) {
     if (diameter_pixels >= kLodMinPixels[level]) return level;

@@ -26,12 +26,19 @@ struct Mesh {
 // torus in the local ring frame (ring in X/Z, axis +Y): u around the ring, v around the wire
 Mesh torus_mesh(double wire_radius, double centre_radius, int segments_u, int segments_v);
 
-// levels of detail, finest first: (segments around the ring, segments around the wire)
-inline constexpr int kLodLevels = 4;
-inline constexpr std::array<std::array<int, 2>, kLodLevels> kLodSegments = {
-    {{40, 14}, {22, 9}, {12, 6}, {7, 4}}};
-// smallest on-screen ring diameter (pixels) for each level; below the last: the coarsest
-inline constexpr std::array<double, kLodLevels - 1> kLodMinPixels = {64.0, 28.0, 12.0};
+// levels of detail, finest first: torus meshes (segments around the ring, around the wire) for
+// rings big on screen, then a last level that draws each ring's bounding box and ray-casts the
+// exact torus in it. On llvmpipe the ray-cast level is cheaper than any mesh under multisampling
+// (whose cost grows with the number of small triangles) and its silhouette is exact; the meshes
+// stay for close-ups, where its one-ball approximation of the first hit would show.
+inline constexpr int kLodLevels = 3;
+inline constexpr int kMeshLevels = kLodLevels - 1;
+inline constexpr std::array<std::array<int, 2>, kMeshLevels> kLodSegments = {{{40, 14}, {24, 10}}};
+// smallest on-screen ring diameter (pixels) for each level; below the last: ray-cast
+inline constexpr std::array<double, kLodLevels - 1> kLodMinPixels = {192.0, 96.0};
+
+// the unit box [-1, 1]^3 (stride 6: position, outward face normal), counter-clockwise outside
+Mesh box_mesh();
 
 int lod_for_pixels(double diameter_pixels);
 

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include "render/gl.hpp"
@@ -200,8 +201,8 @@ class GlRenderer final : public Renderer {
       : settings_(settings), context_(std::move(context)), gl_(context_->gl()) {}
 
   ~GlRenderer() override {
-    for (GLuint program :
-         {sky_program_, prefilter_program_, ring_program_, flat_program_, cloth_program_}) {
+    for (GLuint program : {sky_program_, prefilter_program_, ring_program_, impostor_program_,
+                           flat_program_, cloth_program_}) {
       if (program) gl_.DeleteProgram(program);
     }
     const GLuint textures[] = {sky_texture_, blurred_texture_};
@@ -236,6 +237,9 @@ class GlRenderer final : public Renderer {
                         join(cloth_shader_names()) + ")");
     }
     cloth_mode_ = static_cast<int>(cloth - std::begin(kClothShaders));
+    if (!(settings_.lod_scale >= 0.0) || !std::isfinite(settings_.lod_scale)) {
+      throw RenderError("render: lod_scale must be a finite number >= 0");
+    }
     if (settings_.width < 1 || settings_.height < 1 || settings_.width > 16384 ||
         settings_.height > 16384) {
       throw RenderError("render: image size " + std::to_string(settings_.width) + "x" +
@@ -246,8 +250,9 @@ class GlRenderer final : public Renderer {
     const ShaderFiles files(shader_dirs(settings_));
     sky_program_ = build_program(gl_, files, "fullscreen.vert", "sky.frag");
     prefilter_program_ = build_program(gl_, files, "fullscreen.vert", "prefilter.frag");
-    ring_program_ = build_program(gl_, files, "ring.vert", "ring.frag",
-                                  settings_.live_blur ? "#define LIVE_BLUR 1\n" : "");
+    const std::string blur = settings_.live_blur ? "#define LIVE_BLUR 1\n" : "";
+    ring_program_ = build_program(gl_, files, "ring.vert", "ring.frag", blur);
+    impostor_program_ = build_program(gl_, files, "ring_impostor.vert", "ring_impostor.frag", blur);
     flat_program_ = build_program(gl_, files, "flat.vert", "flat.frag");
     cloth_program_ = build_program(gl_, files, "cloth.vert", "cloth.frag");
 
@@ -467,13 +472,15 @@ class GlRenderer final : public Renderer {
                             reinterpret_cast<const void*>(offset * sizeof(float)));
   }
 
-  // the torus levels depend on the ring's a and c only: rebuilt when those change
+  // the torus levels depend on the ring's a and c only: rebuilt when those change (the last
+  // level's box is the unit box, sized in its vertex shader)
   void ensure_torus_meshes(const RingGeometry& ring) {
     if (ring.wire_radius == torus_a_ && ring.centre_radius == torus_c_) return;
     torus_a_ = ring.wire_radius, torus_c_ = ring.centre_radius;
     for (int level = 0; level < kLodLevels; ++level) {
-      const Mesh mesh =
-          torus_mesh(torus_a_, torus_c_, kLodSegments[level][0], kLodSegments[level][1]);
+      const Mesh mesh = level < kMeshLevels ? torus_mesh(torus_a_, torus_c_, kLodSegments[level][0],
+                                                         kLodSegments[level][1])
+                                            : box_mesh();
       gl_.BindVertexArray(lod_vao_[level]);
       gl_.BindBuffer(GL_ARRAY_BUFFER, lod_vbo_[level]);
       gl_.BufferData(GL_ARRAY_BUFFER, mesh.vertices.size() * sizeof(float), mesh.vertices.data(),
@@ -542,14 +549,16 @@ class GlRenderer final : public Renderer {
       gl_.DrawElements(GL_TRIANGLES, flat_index_count_, GL_UNSIGNED_INT, nullptr);
     }
 
-    // the fabric
+    // the fabric: cloth, or the rings' meshes (the ray-cast rings come after the resolve)
+    int raycast_rings = 0;
     if (panel.frame) {
       if (!panel.as_cloth || !draw_cloth(*panel.frame, weave, camera)) {
-        draw_rings(scene, *panel.frame, camera);
+        raycast_rings = draw_ring_meshes(scene, *panel.frame, camera);
       }
     }
 
-    // sky last, only where nothing was drawn (at the far plane), so it costs no hidden pixels
+    // sky after the opaque things, only where nothing was drawn (at the far plane), so it costs
+    // no hidden pixels; before the ray-cast rings, whose antialiased edges blend over it
     gl_.Enable(GL_DEPTH_TEST);
     gl_.DepthFunc(GL_LEQUAL);
     gl_.DepthMask(GL_FALSE);
@@ -568,12 +577,17 @@ class GlRenderer final : public Renderer {
     gl_.DepthMask(GL_TRUE);
     gl_.BindVertexArray(0);
 
-    // resolve the samples, read back, flip to row 0 = top
+    // resolve the samples (depth too when ray-cast rings are still to be depth-tested against
+    // them), then the ray-cast rings into the single-sampled target
     if (samples_ > 1) {
       gl_.BindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo_);
       gl_.BindFramebuffer(GL_DRAW_FRAMEBUFFER, resolve_fbo_);
       gl_.BlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+      if (raycast_rings > 0) {
+        gl_.BlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+      }
     }
+    if (raycast_rings > 0) draw_raycast_rings(camera);
     gl_.BindFramebuffer(GL_READ_FRAMEBUFFER, resolve_fbo_);
     gl_.ReadBuffer(GL_COLOR_ATTACHMENT0);
     gl_.PixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -604,9 +618,10 @@ class GlRenderer final : public Renderer {
     return image;
   }
 
-  // instanced tori: rings sorted into levels of detail by on-screen size, culled against the
-  // view frustum, front to back within a level (cheaper fragments through early depth test)
-  void draw_rings(const Scene& scene, const RingFrame& frame, const CameraView& camera) {
+  // instanced tori: rings sorted into levels of detail by on-screen size and culled against the
+  // view frustum. The mesh levels are drawn front to back (cheaper fragments through the early
+  // depth test); returns how many rings are left for the ray-cast level.
+  int draw_ring_meshes(const Scene& scene, const RingFrame& frame, const CameraView& camera) {
     const Vector3d forward = camera.forward(), right = camera.right(), up = camera.true_up();
     const double radius = scene.ring.centre_radius + scene.ring.wire_radius;
     const double focal = camera.focal_pixels(settings_.height);
@@ -624,17 +639,21 @@ class GlRenderer final : public Renderer {
       if (depth + radius < camera.near_plane || depth - radius > camera.far_plane) continue;
       if (std::abs(relative.dot(right)) - depth * tan_x > slack_x) continue;
       if (std::abs(relative.dot(up)) - depth * tan_y > slack_y) continue;
-      const int level =
-          settings_.lod ? lod_for_pixels(2.0 * radius * focal / std::max(depth, 1e-9)) : 0;
+      const double pixels = 2.0 * radius * focal / std::max(depth, 1e-9);
+      const int level = settings_.lod ? lod_for_pixels(settings_.lod_scale * pixels) : 0;
       buckets_[level].push_back({depth, ring});
     }
 
+    // sort: front to back for the meshes, back to front for the blended ray-cast level
     instance_data_.clear();
-    int offsets[kLodLevels + 1] = {};
     for (int level = 0; level < kLodLevels; ++level) {
       auto& bucket = buckets_[level];
-      std::sort(bucket.begin(), bucket.end());
-      offsets[level + 1] = offsets[level] + static_cast<int>(bucket.size());
+      if (level < kMeshLevels) {
+        std::sort(bucket.begin(), bucket.end());
+      } else {
+        std::sort(bucket.begin(), bucket.end(), std::greater<>());
+      }
+      level_offsets_[level + 1] = level_offsets_[level] + static_cast<int>(bucket.size());
       for (const auto& [depth, ring] : bucket) {
         const Vector3d p = frame.position.col(ring) - origin_;
         const Eigen::Vector4d q = frame.orientation.col(ring).normalized();  // w, x, y, z
@@ -646,8 +665,8 @@ class GlRenderer final : public Renderer {
       }
       stats_.per_lod[level] += static_cast<int>(bucket.size());
     }
-    stats_.instances += offsets[kLodLevels];
-    if (offsets[kLodLevels] == 0) return;
+    stats_.instances += level_offsets_[kLodLevels];
+    if (level_offsets_[kLodLevels] == 0) return 0;
 
     // one upload per frame (orphaning the old store), then one draw per level
     gl_.BindBuffer(GL_ARRAY_BUFFER, instance_vbo_);
@@ -659,18 +678,47 @@ class GlRenderer final : public Renderer {
     gl_.Uniform1f(uniform(ring_program_, "u_spread"), kBlurSpread);
     gl_.Enable(GL_CULL_FACE);
     gl_.CullFace(GL_BACK);
-    for (int level = 0; level < kLodLevels; ++level) {
-      const int count = offsets[level + 1] - offsets[level];
-      if (count == 0) continue;
-      gl_.BindVertexArray(lod_vao_[level]);
-      gl_.BindBuffer(GL_ARRAY_BUFFER, instance_vbo_);
-      const size_t first = static_cast<size_t>(offsets[level]) * kInstanceFloats;
-      attribute(2, 3, kInstanceFloats, first);
-      attribute(3, 4, kInstanceFloats, first + 3);
-      gl_.DrawElementsInstanced(GL_TRIANGLES, lod_index_count_[level], GL_UNSIGNED_INT, nullptr,
-                                count);
-    }
+    for (int level = 0; level < kMeshLevels; ++level) draw_level(level);
     gl_.Disable(GL_CULL_FACE);
+    return level_offsets_[kLodLevels] - level_offsets_[kMeshLevels];
+  }
+
+  // the last level: bounding boxes, the torus ray-cast in each. Drawn single-sampled after the
+  // resolve, back to front and blended by the coverage the shader computes, so these rings are
+  // antialiased without multisampling (whose cost on a software rasterizer grows with the number
+  // of tiny primitives, not with pixels)
+  void draw_raycast_rings(const CameraView& camera) {
+    gl_.BindFramebuffer(GL_FRAMEBUFFER, resolve_fbo_);
+    gl_.Enable(GL_DEPTH_TEST);
+    gl_.DepthFunc(GL_LESS);
+    gl_.DepthMask(GL_TRUE);
+    gl_.Enable(GL_BLEND);
+    gl_.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // alpha stays 1
+    set_common_uniforms(impostor_program_, camera);
+    gl_.Uniform1f(uniform(impostor_program_, "u_spread"), kBlurSpread);
+    gl_.Uniform2f(uniform(impostor_program_, "u_torus"), static_cast<float>(torus_a_),
+                  static_cast<float>(torus_c_));
+    gl_.Uniform1f(uniform(impostor_program_, "u_pixel_angle"),
+                  static_cast<float>(1.0 / camera.focal_pixels(settings_.height)));
+    gl_.Enable(GL_CULL_FACE);
+    gl_.CullFace(GL_BACK);
+    draw_level(kMeshLevels);
+    gl_.Disable(GL_CULL_FACE);
+    gl_.Disable(GL_BLEND);
+    gl_.BindVertexArray(0);
+  }
+
+  // one instanced draw of level `level`'s mesh for that level's instances
+  void draw_level(int level) {
+    const int count = level_offsets_[level + 1] - level_offsets_[level];
+    if (count == 0) return;
+    gl_.BindVertexArray(lod_vao_[level]);
+    gl_.BindBuffer(GL_ARRAY_BUFFER, instance_vbo_);
+    const size_t first = static_cast<size_t>(level_offsets_[level]) * kInstanceFloats;
+    attribute(2, 3, kInstanceFloats, first);
+    attribute(3, 4, kInstanceFloats, first + 3);
+    gl_.DrawElementsInstanced(GL_TRIANGLES, lod_index_count_[level], GL_UNSIGNED_INT, nullptr,
+                              count);
   }
 
   // the cloth baseline's look; false when the weave has no quads (a chain): draw rings instead
@@ -704,8 +752,8 @@ class GlRenderer final : public Renderer {
   int cloth_mode_ = 0;
   int samples_ = 1;
 
-  GLuint sky_program_ = 0, prefilter_program_ = 0, ring_program_ = 0, flat_program_ = 0,
-         cloth_program_ = 0;
+  GLuint sky_program_ = 0, prefilter_program_ = 0, ring_program_ = 0, impostor_program_ = 0,
+         flat_program_ = 0, cloth_program_ = 0;
   GLuint sky_texture_ = 0, blurred_texture_ = 0;
   GLuint msaa_fbo_ = 0, msaa_color_ = 0, msaa_depth_ = 0;
   GLuint resolve_fbo_ = 0, resolve_color_ = 0, resolve_depth_ = 0;
@@ -722,6 +770,7 @@ class GlRenderer final : public Renderer {
   Vector3d origin_ = Vector3d::Zero();
   Eigen::Matrix4f view_projection_ = Eigen::Matrix4f::Identity();
   std::array<std::vector<std::pair<double, int>>, kLodLevels> buckets_;
+  std::array<int, kLodLevels + 1> level_offsets_{};  // first instance of each level, then the end
   std::vector<float> instance_data_;
   std::vector<unsigned char> readback_;
 };

@@ -13,6 +13,7 @@
 #include "core/frame.hpp"
 #include "core/scene.hpp"
 #include "core/weave.hpp"
+#include "render/mesh.hpp"
 
 namespace chainmail::render {
 
@@ -20,6 +21,8 @@ struct RenderSettings {
   int width = 1280, height = 720;  // per panel, pixels
   int samples = 4;                 // MSAA samples (0/1 = off)
   bool lod = true;                 // pick the torus resolution per ring from its size on screen
+  double lod_scale = 1.0;  // on-screen size is scaled by this before the level is picked: below 1
+                           // coarser levels sooner (0: every ring ray-cast), above 1 later
   std::string context = "auto";    // auto | osmesa | egl (auto tries OSMesa, then EGL)
   std::string shader_dir;          // empty: beside the executable, then $CHAINMAIL_SHADER_DIR
   std::string material = "steel";  // steel | gold | copper | brass | bronze | silver | titanium
@@ -46,9 +49,10 @@ struct Image {
 };
 
 struct FrameStats {
-  double ms = 0;                 // wall time of the last render() call
-  int instances = 0;             // rings drawn (after frustum culling), all panels
-  std::array<int, 4> per_lod{};  // of those, per level of detail (0 = finest)
+  double ms = 0;                          // wall time of the last render() call
+  int instances = 0;                      // rings drawn (after frustum culling), all panels
+  std::array<int, kLodLevels> per_lod{};  // of those, per level of detail (0 = finest; the
+                                          // last is the ray-cast level)
 };
 
 class RenderError : public std::runtime_error {
