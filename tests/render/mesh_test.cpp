@@ -37,6 +37,22 @@ TEST(RenderMesh, TorusTrianglesFaceOutwardAndLieOnTheTorus) {
   }
 }
 
+TEST(RenderMesh, BoxIsTheUnitCubeSeenFromOutside) {
+  const Mesh box = box_mesh();
+  ASSERT_EQ(box.indices.size(), 36u);  // 6 faces, 2 triangles each
+  for (size_t t = 0; t < box.indices.size(); t += 3) {
+    const Eigen::Vector3d p0 = vertex(box, box.indices[t], 0),
+                          p1 = vertex(box, box.indices[t + 1], 0),
+                          p2 = vertex(box, box.indices[t + 2], 0);
+    // counter-clockwise seen from outside: the winding normal points away from the centre
+    ASSERT_GT((p1 - p0).cross(p2 - p0).dot(p0 + p1 + p2), 0.0) << "triangle " << t / 3;
+  }
+  for (int k = 0; k < box.vertex_count(); ++k) {
+    EXPECT_DOUBLE_EQ(vertex(box, k, 0).cwiseAbs().maxCoeff(), 1.0);
+    EXPECT_DOUBLE_EQ(vertex(box, k, 0).cwiseAbs().minCoeff(), 1.0);  // corners only
+  }
+}
+
 TEST(RenderMesh, FinerLevelsForBiggerRings) {
   EXPECT_EQ(lod_for_pixels(500.0), 0);
   EXPECT_EQ(lod_for_pixels(1.0), kLodLevels - 1);

@@ -211,6 +211,175 @@ TEST(Render, LevelOfDetailFollowsScreenSize) {
   EXPECT_EQ(stats.per_lod[kLodLevels - 1], 400);  // all ray-cast
 }
 
+// share of pixels where `a` and `b` disagree on whether the fabric covers them: covered means
+// more than `threshold` (summed over R, G, B) away from the same view without fabric
+double coverage_disagreement(const Image& a, const Image& b, const Image& background,
+                             int threshold) {
+  int disagree = 0, covered = 0;
+  for (int y = 0; y < a.height; ++y) {
+    for (int x = 0; x < a.width; ++x) {
+      const bool in_a = pixel_difference(a, background, x, y) > threshold;
+      const bool in_b = pixel_difference(b, background, x, y) > threshold;
+      disagree += in_a != in_b;
+      covered += in_a || in_b;
+    }
+  }
+  return covered == 0 ? 1.0 : static_cast<double>(disagree) / covered;
+}
+
+// (x, y) is away from silhouettes: its 3x3 neighbourhood is fabric in both images
+bool interior_in_both(const Image& a, const Image& b, const Image& background, int x, int y) {
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      if (pixel_difference(a, background, x + dx, y + dy) <= 60 ||
+          pixel_difference(b, background, x + dx, y + dy) <= 60) {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+TEST(Render, RayCastRingsMatchTheFinestMesh) {
+  // a 4x4 sheet seen obliquely from close by, so rings are large and interlock on screen
+  const Scene scene = make_scene(
+      4, 4, {{"position", {0.02, 0.035, 0.045}}, {"target", {0, 0, 0}}, {"fov_deg", 40}});
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  const RingFrame frame = rest_frame(weave);
+  RingFrame empty;
+  empty.resize(0);
+  RenderSettings settings = small_settings();
+  settings.width = 320, settings.height = 240, settings.labels = false;
+  settings.lod = false;  // every ring the finest mesh
+  auto mesh = Renderer::create(settings);
+  const Image meshed = mesh->render(scene, weave, {{"x", &frame}});
+  const Image background = mesh->render(scene, weave, {{"x", &empty}});
+  ASSERT_EQ(mesh->last_stats().per_lod[0], 0);
+  settings.lod = true;
+  settings.lod_scale = 0.0;  // every ring ray-cast
+  auto raycast = Renderer::create(settings);
+  const Image cast = raycast->render(scene, weave, {{"x", &frame}});
+  ASSERT_EQ(raycast->last_stats().per_lod[kLodLevels - 1], 16);
+
+  // the same pixels are wire: they differ on silhouettes only, by antialiasing (3.5% here; a wire
+  // 20% too thick or thin would be 20%)
+  EXPECT_LT(coverage_disagreement(meshed, cast, background, 60), 0.08);
+  // and where both are wire they are lit alike, the same ring in front where rings cross (the
+  // ray-cast depth): mean difference under 3 levels per channel (0.2 here)
+  double sum = 0.0;
+  int both = 0;
+  for (int y = 1; y + 1 < cast.height; ++y) {
+    for (int x = 1; x + 1 < cast.width; ++x) {
+      if (!interior_in_both(meshed, cast, background, x, y)) continue;
+      sum += pixel_difference(meshed, cast, x, y) / 3.0;
+      ++both;
+    }
+  }
+  ASSERT_GT(both, 2000);
+  EXPECT_LT(sum / both, 3.0);
+}
+
+TEST(Render, RayCastDepthIsTheSurfaceDepth) {
+  // a flat ring whose wire is cut by the ground 0.9 a above its centre line: seen from above only
+  // a strip of the wire's crown (sqrt(1 - 0.81) of its width) rises through the ground. The
+  // ray-cast ring must show that strip like the finest mesh does; depth from its bounding box
+  // instead of from the surface would show the whole width of the wire.
+  const double a = 0.0008;
+  const Scene scene = scene_from_json(
+      {{"name", "test"},
+       {"ring", {{"wire_diameter", 2 * a}, {"inner_diameter", 0.008}}},
+       {"weave", {{"type", "4in1"}, {"rows", 1}, {"cols", 1}}},
+       {"colliders", nlohmann::json::array({{{"type", "plane"}, {"point", {0.0, 0.9 * a, 0.0}}}})},
+       {"camera", {{"position", {0.0, 0.03, 0.0}}, {"target", {0, 0, 0}}}},
+       {"duration", 1.0}},
+      "test");
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  RingFrame ring = rest_frame(weave);
+  ring.position.col(0).setZero();
+  ring.set_quat(0, Quat::Identity());
+  RingFrame empty;
+  empty.resize(0);
+  RenderSettings settings = small_settings();
+  settings.width = 320, settings.height = 240, settings.labels = false;
+  settings.lod = false;
+  auto mesh = Renderer::create(settings);
+  const Image background = mesh->render(scene, weave, {{"x", &empty}});
+  auto visible = [&](const Image& image) {
+    int count = 0;
+    for (int y = 0; y < image.height; ++y) {
+      for (int x = 0; x < image.width; ++x) count += pixel_difference(image, background, x, y) > 30;
+    }
+    return count;
+  };
+  const int meshed = visible(mesh->render(scene, weave, {{"x", &ring}}));
+  settings.lod = true;
+  settings.lod_scale = 0.0;
+  auto raycast = Renderer::create(settings);
+  const int cast = visible(raycast->render(scene, weave, {{"x", &ring}}));
+  ASSERT_EQ(raycast->last_stats().per_lod[kLodLevels - 1], 1);
+  // the strip: 2 pi c long, 2 a sqrt(0.19) wide, at 330 px per 30 mm: about 1400 px (antialiased
+  // edges add to it); the whole wire would be 2.3 times that
+  EXPECT_GT(meshed, 1000);
+  EXPECT_NEAR(cast, meshed, 0.25 * meshed) << "ray-cast " << cast << ", mesh " << meshed;
+}
+
+// mean over pixels of the squared change (levels of 255, summed over R, G, B) from one image to
+// the next: a wire sliding across a pixel in small steps costs little when the pixel follows its
+// coverage, and a lot when the pixel jumps between wire and background (shimmer)
+double flicker_energy(const Image& a, const Image& b) {
+  double sum = 0.0;
+  for (size_t i = 0; i < a.rgba.size(); i += 4) {
+    double change = 0.0;
+    for (int c = 0; c < 3; ++c) change += std::abs(a.rgba[i + c] - b.rgba[i + c]);
+    sum += change * change;
+  }
+  return sum / (a.rgba.size() / 4);
+}
+
+TEST(Render, ThinWiresDoNotShimmerUnderSubPixelMotion) {
+  // a sheet filling the view from above: rings about 9 px across, wires about 1.3 px
+  const Scene scene = make_scene(
+      40, 40, {{"position", {0.0, 0.45, 0.001}}, {"target", {0, 0, 0}}, {"fov_deg", 40}});
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  const RingFrame frame = rest_frame(weave);
+  RenderSettings settings = small_settings();
+  settings.width = 320, settings.height = 240, settings.labels = false;
+  // the sheet slides sideways by one pixel in eighths
+  const double pixel_size = 0.45 * std::tan(20.0 * 3.141592653589793 / 180.0) / 120.0;
+  auto flicker = [&](Renderer& renderer) {
+    double energy = 0.0;
+    Image previous = renderer.render(scene, weave, {{"x", &frame}});
+    for (int k = 1; k <= 8; ++k) {
+      RingFrame moved = frame;
+      moved.position.row(0).array() += k * pixel_size / 8.0;
+      Image image = renderer.render(scene, weave, {{"x", &moved}});
+      energy += flicker_energy(previous, image);
+      previous = std::move(image);
+    }
+    return energy;
+  };
+
+  // the control, without antialiasing: the finest mesh at one sample per pixel
+  settings.samples = 1;
+  settings.lod = false;
+  auto aliased = Renderer::create(settings);
+  const double aliased_flicker = flicker(*aliased);
+  // the default path: rings this small are ray-cast with their coverage
+  settings.samples = 4;
+  settings.lod = true;
+  auto antialiased = Renderer::create(settings);
+  const double antialiased_flicker = flicker(*antialiased);
+  ASSERT_GT(antialiased->last_stats().per_lod[kLodLevels - 1], 1000);
+  EXPECT_LT(antialiased_flicker, 0.5 * aliased_flicker)
+      << "antialiased " << antialiased_flicker << ", aliased " << aliased_flicker;
+  // and it shimmers no more than the finest mesh under 4x multisampling
+  settings.lod = false;
+  auto multisampled = Renderer::create(settings);
+  const double multisampled_flicker = flicker(*multisampled);
+  EXPECT_LT(antialiased_flicker, 1.25 * multisampled_flicker)
+      << "ray-cast " << antialiased_flicker << ", 4x MSAA mesh " << multisampled_flicker;
+}
+
 TEST(Render, ClothPathDrawsEveryShader) {
   const Scene scene = make_scene(6, 6);
   const Weave weave = make_weave(scene.weave, scene.ring);
