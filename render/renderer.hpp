@@ -19,8 +19,9 @@ namespace chainmail::render {
 
 struct RenderSettings {
   int width = 1280, height = 720;  // per panel, pixels
-  int samples = 4;                 // MSAA samples (0/1 = off)
-  bool lod = true;                 // pick the torus resolution per ring from its size on screen
+  int samples = 4;  // MSAA samples for meshes, ground and colliders (0/1 = off); ray-cast rings
+                    // are antialiased by their own coverage either way
+  bool lod = true;  // pick each ring's level from its size on screen; false: the finest mesh
   double lod_scale = 1.0;  // on-screen size is scaled by this before the level is picked: below 1
                            // coarser levels sooner (0: every ring ray-cast), above 1 later
   std::string context = "auto";    // auto | osmesa | egl (auto tries OSMesa, then EGL)

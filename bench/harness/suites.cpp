@@ -644,7 +644,10 @@ int bench_command(const BenchCommand& command) {
          "largest stable dt found by bisection.\n"
          "- `curtain_30x30/` and `shaders/` come from their own commands, not from `bench`: "
          "the curtain at the paper's size in every backend, rendered side by side "
-         "(`scripts/gallery.sh`), and one picture per cloth shader (`scripts/shaders.sh`).\n";
+         "(`scripts/gallery.sh`), and one picture per cloth shader (`scripts/shaders.sh`).\n"
+         "- `micro_render.csv` — the renderer's ms per frame at 1280x720 (900 and 10,000 rings, "
+         "with and without level of detail, 4x MSAA and none) from `scripts/render_bench.sh`, not "
+         "from `bench`.\n";
   const double minutes =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() / 60.0;
   char took[96];

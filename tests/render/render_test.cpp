@@ -37,12 +37,15 @@ namespace fs = std::filesystem;
 
 const std::string kShaderDir = std::string(CHAINMAIL_SOURCE_DIR) + "/shaders";
 
-Scene make_scene(int rows, int cols, const nlohmann::json& camera = nullptr) {
+// a 4-in-1 sheet of rows x cols rings (wire 1.6 mm, inner diameter 8 mm) over a ground plane at
+// height `ground`
+Scene make_scene(int rows, int cols, const nlohmann::json& camera = nullptr,
+                 double ground = -0.02) {
   nlohmann::json doc = {
       {"name", "test"},
       {"ring", {{"wire_diameter", 0.0016}, {"inner_diameter", 0.008}, {"density", 7850.0}}},
       {"weave", {{"type", "4in1"}, {"rows", rows}, {"cols", cols}}},
-      {"colliders", nlohmann::json::array({{{"type", "plane"}, {"point", {0.0, -0.02, 0.0}}}})},
+      {"colliders", nlohmann::json::array({{{"type", "plane"}, {"point", {0.0, ground, 0.0}}}})},
       {"duration", 1.0}};
   if (!camera.is_null()) doc["camera"] = camera;
   return scene_from_json(doc, "test");
@@ -55,6 +58,19 @@ RingFrame rest_frame(const Weave& weave) {
   frame.orientation = weave.rest_orientation;
   frame.velocity.setZero();
   return frame;
+}
+
+// the weave's first ring alone at the origin, flat (axis +Y), and no rings at all
+RingFrame flat_ring_at_origin(const Weave& weave) {
+  RingFrame ring = rest_frame(weave);
+  ring.position.col(0).setZero();
+  ring.set_quat(0, Quat::Identity());
+  return ring;
+}
+RingFrame no_rings() {
+  RingFrame empty;
+  empty.resize(0);
+  return empty;
 }
 
 RenderSettings small_settings() {
@@ -123,11 +139,7 @@ TEST(Render, CloseUpShowsWireAndBackgroundThroughTheHole) {
   // one ring at the origin, its axis (+Y) pointing at a camera straight above it
   const Scene scene = make_scene(1, 1, {{"position", {0.0, 0.03, 0.0}}, {"target", {0, 0, 0}}});
   const Weave weave = make_weave(scene.weave, scene.ring);
-  RingFrame ring = rest_frame(weave);
-  ring.position.col(0).setZero();
-  ring.set_quat(0, Quat::Identity());
-  RingFrame empty;
-  empty.resize(0);
+  const RingFrame ring = flat_ring_at_origin(weave), empty = no_rings();
 
   RenderSettings settings = small_settings();
   settings.labels = false;
@@ -245,9 +257,7 @@ TEST(Render, RayCastRingsMatchTheFinestMesh) {
   const Scene scene = make_scene(
       4, 4, {{"position", {0.02, 0.035, 0.045}}, {"target", {0, 0, 0}}, {"fov_deg", 40}});
   const Weave weave = make_weave(scene.weave, scene.ring);
-  const RingFrame frame = rest_frame(weave);
-  RingFrame empty;
-  empty.resize(0);
+  const RingFrame frame = rest_frame(weave), empty = no_rings();
   RenderSettings settings = small_settings();
   settings.width = 320, settings.height = 240, settings.labels = false;
   settings.lod = false;  // every ring the finest mesh
@@ -284,21 +294,11 @@ TEST(Render, RayCastDepthIsTheSurfaceDepth) {
   // a strip of the wire's crown (sqrt(1 - 0.81) of its width) rises through the ground. The
   // ray-cast ring must show that strip like the finest mesh does; depth from its bounding box
   // instead of from the surface would show the whole width of the wire.
-  const double a = 0.0008;
-  const Scene scene = scene_from_json(
-      {{"name", "test"},
-       {"ring", {{"wire_diameter", 2 * a}, {"inner_diameter", 0.008}}},
-       {"weave", {{"type", "4in1"}, {"rows", 1}, {"cols", 1}}},
-       {"colliders", nlohmann::json::array({{{"type", "plane"}, {"point", {0.0, 0.9 * a, 0.0}}}})},
-       {"camera", {{"position", {0.0, 0.03, 0.0}}, {"target", {0, 0, 0}}}},
-       {"duration", 1.0}},
-      "test");
+  const double a = 0.0008;  // make_scene's wire radius
+  const Scene scene =
+      make_scene(1, 1, {{"position", {0.0, 0.03, 0.0}}, {"target", {0, 0, 0}}}, 0.9 * a);
   const Weave weave = make_weave(scene.weave, scene.ring);
-  RingFrame ring = rest_frame(weave);
-  ring.position.col(0).setZero();
-  ring.set_quat(0, Quat::Identity());
-  RingFrame empty;
-  empty.resize(0);
+  const RingFrame ring = flat_ring_at_origin(weave), empty = no_rings();
   RenderSettings settings = small_settings();
   settings.width = 320, settings.height = 240, settings.labels = false;
   settings.lod = false;
