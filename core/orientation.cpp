@@ -154,8 +154,7 @@ void orient_rings(const Positions& position, const Weave& weave, const RingGeome
       // swivel about the axis weighted by the neighbour distances along each grid direction
       // (equal distances: the row normal, about which European 4-in-1 rows lean); the angle grows
       // from a/c at full extension to pi/2 under compression; its sign alternates by row.
-      // In the ring's own frame that axis is (dx, 0, -dz) / |.|, so the swivel composes on the
-      // right
+      // In the ring's own frame that axis is (dx, 0, -dz) / |.|: the swivel composes on the right
       const double ratio = 0.5 * (dx + dz) / settings.max_link_distance;
       const double theta = weave.parity[i] * swivel_angle(ratio, min_ratio, extended);
       const double half_sin = std::sin(0.5 * theta) / std::hypot(dx, dz);

@@ -68,7 +68,10 @@ void add_sphere(SceneMeshBuilder& b, const Vector3d& center, double radius) {
   }
 }
 
-void add_box(SceneMeshBuilder& b, const Vector3d& center, const Vector3d& half) {
+// the six faces of the box center +- half: corners counter-clockwise seen from outside, then the
+// outward normal, passed to quad(c0, c1, c2, c3, n)
+template <class Quad>
+void box_faces(const Vector3d& center, const Vector3d& half, Quad&& quad) {
   for (int axis = 0; axis < 3; ++axis) {
     for (double sign : {-1.0, 1.0}) {
       Vector3d n = Vector3d::Zero();
@@ -76,11 +79,17 @@ void add_box(SceneMeshBuilder& b, const Vector3d& center, const Vector3d& half) 
       Vector3d u = Vector3d::Zero(), v = Vector3d::Zero();
       u[(axis + 1) % 3] = half[(axis + 1) % 3];
       v[(axis + 2) % 3] = half[(axis + 2) % 3];
-      if (sign < 0) std::swap(u, v);
+      if (sign < 0) std::swap(u, v);  // keeps u x v along n
       const Vector3d f = center + n.cwiseProduct(half);
-      b.quad(f - u - v, f + u - v, f + u + v, f - u + v, n);
+      quad(f - u - v, f + u - v, f + u + v, f - u + v, n);
     }
   }
+}
+
+void add_box(SceneMeshBuilder& b, const Vector3d& center, const Vector3d& half) {
+  box_faces(center, half,
+            [&](const Vector3d& c0, const Vector3d& c1, const Vector3d& c2, const Vector3d& c3,
+                const Vector3d& n) { b.quad(c0, c1, c2, c3, n); });
 }
 
 void add_cylinder(SceneMeshBuilder& b, const Vector3d& center, double radius, double half_height) {
@@ -140,23 +149,17 @@ Mesh torus_mesh(double wire_radius, double centre_radius, int segments_u, int se
 Mesh box_mesh() {
   Mesh mesh;
   mesh.stride = 6;
-  for (int axis = 0; axis < 3; ++axis) {
-    for (double sign : {-1.0, 1.0}) {
-      Vector3d n = Vector3d::Zero(), u = Vector3d::Zero(), v = Vector3d::Zero();
-      n[axis] = sign;
-      u[(axis + 1) % 3] = 1.0;
-      v[(axis + 2) % 3] = 1.0;
-      if (sign < 0) std::swap(u, v);  // keeps u x v = n
-      const auto first = static_cast<std::uint32_t>(mesh.vertex_count());
-      for (const Vector3d& corner :
-           {Vector3d(n - u - v), Vector3d(n + u - v), Vector3d(n + u + v), Vector3d(n - u + v)}) {
-        push(mesh.vertices, corner);
-        push(mesh.vertices, n);
-      }
-      mesh.indices.insert(mesh.indices.end(),
-                          {first, first + 1, first + 2, first, first + 2, first + 3});
-    }
-  }
+  box_faces(Vector3d::Zero(), Vector3d::Ones(),
+            [&](const Vector3d& c0, const Vector3d& c1, const Vector3d& c2, const Vector3d& c3,
+                const Vector3d& n) {
+              const auto first = static_cast<std::uint32_t>(mesh.vertex_count());
+              for (const Vector3d* corner : {&c0, &c1, &c2, &c3}) {
+                push(mesh.vertices, *corner);
+                push(mesh.vertices, n);
+              }
+              mesh.indices.insert(mesh.indices.end(),
+                                  {first, first + 1, first + 2, first, first + 2, first + 3});
+            });
   return mesh;
 }
 

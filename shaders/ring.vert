@@ -1,4 +1,5 @@
 #version 330 core
+#include "quaternion.glsl"
 // one torus mesh per level of detail, instanced: every ring is the same mesh moved by its own
 // centre and quaternion (local ring frame: ring in the X/Z plane, axis +Y)
 layout(location = 0) in vec3 a_position;  // local, m
@@ -8,10 +9,6 @@ layout(location = 3) in vec4 i_rotation;  // unit quaternion (x, y, z, w), local
 uniform mat4 u_view_projection;
 out vec3 v_world;
 out vec3 v_normal;
-
-vec3 rotate(vec4 q, vec3 v) {
-  return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.w * v);
-}
 
 void main() {
   v_world = i_center + rotate(i_rotation, a_position);

@@ -1,5 +1,6 @@
 #version 330 core
 #include "ring_shading.glsl"
+#include "quaternion.glsl"
 // ray-cast torus for rings a few pixels wide. The torus is the union of balls of radius a centred
 // on its centre circle, so the view ray hits it exactly where it passes within a of that circle.
 // The circle point nearest the ray is found by alternating projections (ray -> circle -> ray),
@@ -18,12 +19,13 @@ uniform float u_pixel_angle;  // size of one pixel at unit distance
 
 const int kProjections = 3;
 
-vec3 rotate(vec4 q, vec3 v) {
-  return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.w * v);
+// the point of the centre circle (radius c in the ring plane) nearest to p
+vec3 centre_circle_point(vec3 p) {
+  return u_torus.y * normalize(vec3(p.x, 0.0, p.z) + vec3(1e-9, 0.0, 0.0));
 }
 
 void main() {
-  float a = u_torus.x, c = u_torus.y;
+  float a = u_torus.x;  // wire radius
   vec3 origin = v_eye_local;
   vec3 dir = normalize(v_local - origin);
   // the ray's span inside the box
@@ -38,7 +40,7 @@ void main() {
   vec3 centre_point = vec3(0.0);
   for (int i = 0; i < kProjections; ++i) {
     vec3 p = origin + t * dir;
-    centre_point = c * normalize(vec3(p.x, 0.0, p.z) + vec3(1e-9, 0.0, 0.0));
+    centre_point = centre_circle_point(p);
     t = dot(centre_point - origin, dir);
   }
   vec3 nearest = origin + t * dir;
@@ -49,7 +51,7 @@ void main() {
   // entry into the ball (on the silhouette when the ray misses it)
   vec3 p = nearest - dir * sqrt(max(a * a - miss * miss, 0.0));
   // the torus normal at p: away from the circle point under p (not the ball's centre)
-  vec3 n = rotate(v_rotation, normalize(p - c * normalize(vec3(p.x, 0.0, p.z) + vec3(1e-9, 0.0, 0.0))));
+  vec3 n = rotate(v_rotation, normalize(p - centre_circle_point(p)));
   vec3 world = v_center + rotate(v_rotation, p);
   vec4 clip = u_view_projection * vec4(world, 1.0);
   gl_FragDepth = 0.5 + 0.5 * clip.z / clip.w;

@@ -1,4 +1,5 @@
 #version 330 core
+#include "quaternion.glsl"
 // the farthest level of detail: instead of a torus mesh, each ring draws its bounding box (12
 // triangles) and ring_impostor.frag ray-casts the exact torus inside it. Local ring frame as in
 // ring.vert: ring in the X/Z plane, axis +Y.
@@ -14,10 +15,6 @@ flat out vec3 v_eye_local;    // the eye in the ring frame
 flat out vec3 v_half;         // the box's half extents, m
 flat out vec3 v_center;
 flat out vec4 v_rotation;
-
-vec3 rotate(vec4 q, vec3 v) {
-  return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.w * v);
-}
 
 void main() {
   // one pixel of margin so that the antialiased fringe around the wire is inside the box

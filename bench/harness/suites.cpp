@@ -417,13 +417,11 @@ int stability_command(const StabilityCommand& command) {
   csv << "case,backend,dt,verdict,largest_stable_dt,bound,max_stretch,broken_links,"
          "penetrating_linked,false_links,max_speed,ms_per_step\n";
   md << "# Stability suite\n\nEach case runs every backend at its default knobs (the verdict), "
-        "then "
-        "bisects for the largest stable dt (log-space, 3 steps, 6 for the spring study; `>=` = "
-        "stable at the top of the "
-        "searched range, `<` = unstable at the bottom).\n\n"
-        "| case | backend | dt (s) | verdict | largest stable dt (s) | max_stretch | broken_links "
-        "| "
-        "penetrating_linked | max_speed (m/s) |\n|---|---|---|---|---|---|---|---|---|\n";
+        "then bisects for the largest stable dt (log-space, 3 steps, 6 for the spring study; "
+        "`>=` = stable at the top of the searched range, `<` = unstable at the bottom).\n\n"
+        "| case | backend | dt (s) | verdict | largest stable dt (s) | max_stretch | "
+        "broken_links | penetrating_linked | max_speed (m/s) |\n"
+        "|---|---|---|---|---|---|---|---|---|\n";
   int unstable = 0;
   for (const StabilityCase& c : stability_cases(command.quick)) {
     const Scene scene = scene_from_json(c.scene, "stability/" + c.name);
