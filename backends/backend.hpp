@@ -47,6 +47,10 @@ struct BackendInfo {
   std::string summary;
   std::vector<KnobSpec> knobs;  // must include "dt"
   bool cloth_surface = false;   // its rings stand for a cloth surface: drawn as a textured mesh
+  // rough costs at default knobs, measured on a 2-core machine, for the up-front estimate that
+  // refuses runs too large for the budget and announces long reference runs
+  double cost_us_per_ring_step = 1.0;  // wall microseconds per ring per step
+  double bytes_per_ring = 2048.0;      // peak resident bytes per ring
   std::function<std::unique_ptr<Backend>()> create;
 };
 

@@ -368,6 +368,8 @@ BackendInfo bullet_backend_info() {
   const BulletSettings d;
   BackendInfo info;
   info.name = "bullet";
+  info.cost_us_per_ring_step = 150;
+  info.bytes_per_ring = 8000;
   info.summary = "rigid tori (compound of capsules), Bullet sequential-impulse solver";
   info.knobs = {
       {"dt", T::number, d.dt, 1e-5, 0.1, "time step of the harness, s"},

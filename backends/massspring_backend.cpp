@@ -78,6 +78,8 @@ BackendInfo massspring_backend_info() {
   using T = KnobSpec::Type;
   BackendInfo info;
   info.name = "massspring";
+  info.cost_us_per_ring_step = 0.5;
+  info.bytes_per_ring = 1000;
   info.cloth_surface = true;
   info.summary =
       "mass-spring cloth: structural/shear/bending springs, damped Verlet, 10 % over-extension "

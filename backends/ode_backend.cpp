@@ -574,6 +574,8 @@ BackendInfo ode_backend_info() {
   const OdeSettings d;
   BackendInfo info;
   info.name = "ode";
+  info.cost_us_per_ring_step = 25;
+  info.bytes_per_ring = 6000;
   info.summary = "ODE 0.16 rigid bodies, each ring a torus of capsules, QuickStep contacts";
   info.knobs = {
       {"dt", T::number, d.dt, 1e-7, 1.0, "time step of one step(), s"},

@@ -38,6 +38,8 @@ BackendInfo plausible_backend_info() {
   using T = KnobSpec::Type;
   BackendInfo info;
   info.name = "plausible";
+  info.cost_us_per_ring_step = 0.3;
+  info.bytes_per_ring = 1000;
   info.summary = "the paper's mass-per-ring model: Provot edge constraints, repulsion, swivel";
   info.knobs = {
       {"dt", T::number, 0.004, 1e-6, 0.1, "time step, s"},

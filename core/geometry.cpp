@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 namespace chainmail {
@@ -30,31 +31,19 @@ CircleParam parametrise(const Circle& circle) {
   return p;
 }
 
-}  // namespace
-
-double point_circle_distance(const Vec3& p, const Circle& circle) {
-  const Vec3 d = p - circle.centre;
-  const double h = d.dot(circle.normal);
-  const double r = (d - h * circle.normal).norm();
-  const double radial = r - circle.radius;
-  return std::sqrt(h * h + radial * radial);
-}
-
-double circle_circle_distance(const Circle& first, const Circle& second, int samples) {
-  const CircleParam b = parametrise(second);
+// golden-section refinement of every sampled local minimum of the distance from `second`'s
+// points to `first`; value holds the distances at s = k * 2 pi / samples
+double refined_minimum(const Circle& first, const CircleParam& b, const double* value,
+                       int samples) {
   const double step = 2.0 * std::numbers::pi / samples;
   auto f = [&](double s) { return point_circle_distance(b.at(s), first); };
-
-  std::vector<double> value(samples);
-  for (int k = 0; k < samples; ++k) value[k] = f(k * step);
-
-  double best = *std::min_element(value.begin(), value.end());
-  // refine every sampled local minimum: golden-section search on its two neighbouring intervals
+  double best = *std::min_element(value, value + samples);
   const double inv_phi = (std::sqrt(5.0) - 1.0) / 2.0;
   for (int k = 0; k < samples; ++k) {
     const double prev = value[(k + samples - 1) % samples];
     const double next = value[(k + 1) % samples];
     if (value[k] > prev || value[k] > next) continue;
+    // search the two intervals beside the sampled minimum
     double lo = (k - 1) * step, hi = (k + 1) * step;
     double x1 = hi - inv_phi * (hi - lo), x2 = lo + inv_phi * (hi - lo);
     double f1 = f(x1), f2 = f(x2);
@@ -72,57 +61,105 @@ double circle_circle_distance(const Circle& first, const Circle& second, int sam
   return best;
 }
 
+// samples for the torus tests: coarse on purpose, the refinement makes them exact
+constexpr int kNearSamples = 32;
+
+// the cheap part of the torus tests: fills value[kNearSamples] with sampled distances and returns
+// false when the circles certainly stay at least `limit` apart. A sampled minimum can only be
+// refined downwards by the distance function's Lipschitz bound (r2 per radian) times half a
+// sample step, so samples all above limit + that slack need no refinement
+bool sample_near(const Circle& first, const CircleParam& b, double limit, double* value) {
+  // centre circles farther apart than the sum of radii plus the limit cannot come that close
+  const double reach = first.radius + b.radius + limit;
+  if ((first.centre - b.centre).squaredNorm() > reach * reach) return false;
+  const double step = 2.0 * std::numbers::pi / kNearSamples;
+  for (int k = 0; k < kNearSamples; ++k) value[k] = point_circle_distance(b.at(k * step), first);
+  const double lowest = *std::min_element(value, value + kNearSamples);
+  return lowest <= limit + b.radius * 0.5 * step;
+}
+
+// tolerance of the linking test, m: heights within it of the first circle's plane count as on the
+// plane, in-plane distances within it of the radius as on the rim. Two parts:
+// - round-off: a height is a dot product of coordinates, off by a few ulps of the largest
+//   coordinate involved (centres, radii); 64 machine epsilons of their sum bounds that with margin,
+//   so a rigidly moved coplanar pair (the mass-spring frames: neighbours share one normal) stays in
+//   the band wherever it is placed.
+// - 1e-9 of the radii: frames that were computed (solves, orientations from neighbour vectors)
+//   carry ~1e-12 m of jitter on mm rings; the band absorbs it and still hides no physical
+//   crossing: interlocked rings cross each other's plane at an angle of order one, by a good part
+//   of c. Only tilts below ~1e-9 rad count as coplanar, and coplanar circles are not linked.
+double linking_band(const Circle& first, const Circle& second) {
+  const double size = first.radius + second.radius;
+  const double coordinates =
+      first.centre.cwiseAbs().maxCoeff() + second.centre.cwiseAbs().maxCoeff() + size;
+  return 1e-9 * size + 64.0 * std::numeric_limits<double>::epsilon() * coordinates;
+}
+
+}  // namespace
+
+double point_circle_distance(const Vec3& p, const Circle& circle) {
+  const Vec3 d = p - circle.centre;
+  const double h = d.dot(circle.normal);
+  const double r = (d - h * circle.normal).norm();
+  const double radial = r - circle.radius;
+  return std::sqrt(h * h + radial * radial);
+}
+
+double circle_circle_distance(const Circle& first, const Circle& second, int samples) {
+  const CircleParam b = parametrise(second);
+  const double step = 2.0 * std::numbers::pi / samples;
+  std::vector<double> value(samples);  // (samples) m
+  for (int k = 0; k < samples; ++k) value[k] = point_circle_distance(b.at(k * step), first);
+  return refined_minimum(first, b, value.data(), samples);
+}
+
+std::optional<double> circles_closer_than(const Circle& first, const Circle& second, double limit) {
+  const CircleParam b = parametrise(second);
+  double value[kNearSamples];  // m
+  if (!sample_near(first, b, limit, value)) return std::nullopt;
+  const double distance = refined_minimum(first, b, value, kNearSamples);
+  if (distance < limit) return distance;
+  return std::nullopt;
+}
+
 bool tori_interpenetrate(const Circle& first, const Circle& second, double wire_radius,
                          double tolerance) {
   const double limit = 2.0 * wire_radius - tolerance;
-  // centre circles farther apart than the sum of radii plus the wire cannot touch
-  if ((first.centre - second.centre).norm() > first.radius + second.radius + limit) return false;
-  // a sample below the limit decides at once; a sampled minimum can only be refined downwards by
-  // the distance function's Lipschitz bound (1 per unit arc length) times half a sample step, so
-  // minima above limit + that bound need no refinement
-  const int samples = 32;
   const CircleParam b = parametrise(second);
-  const double step = 2.0 * std::numbers::pi / samples;
-  double value[samples];
-  for (int k = 0; k < samples; ++k) {
-    value[k] = point_circle_distance(b.at(k * step), first);
-    if (value[k] < limit) return true;
-  }
-  const double slack = second.radius * 0.5 * step;
-  double lowest = value[0];
-  for (int k = 1; k < samples; ++k) lowest = std::min(lowest, value[k]);
-  if (lowest > limit + slack) return false;
-  return circle_circle_distance(first, second, samples) < limit;
+  double value[kNearSamples];  // m
+  if (!sample_near(first, b, limit, value)) return false;
+  // a sample below the limit decides without refining
+  if (*std::min_element(value, value + kNearSamples) < limit) return true;
+  return refined_minimum(first, b, value, kNearSamples) < limit;
 }
 
-int disk_crossings(const Circle& first, const Circle& second, int samples) {
+int disk_crossings(const Circle& first, const Circle& second) {
   // far apart: the second circle cannot reach the first's disk
-  if ((first.centre - second.centre).norm() > first.radius + second.radius) return 0;
-  const CircleParam b = parametrise(second);
-  const double step = 2.0 * std::numbers::pi / samples;
-  auto height = [&](double s) { return (b.at(s) - first.centre).dot(first.normal); };
-
-  // start at an irrational phase so symmetric cases do not put a sample exactly on the plane
-  const double phase = 0.1234567891;
+  const Vec3 offset = second.centre - first.centre;  // m
+  const double reach = first.radius + second.radius;
+  if (offset.squaredNorm() > reach * reach) return 0;
+  const Vec3& n = first.normal;
+  Vec3 t0, t1;
+  tangent_basis(second.normal, t0, t1);
+  // the second circle's height above the first's plane is exactly a sinusoid,
+  // h(s) = h0 + r2 (alpha cos s + beta sin s): no sampling, its extremes are h0 -+ amplitude
+  const double h0 = offset.dot(n), alpha = t0.dot(n), beta = t1.dot(n);
+  const double tilt = std::hypot(alpha, beta), amplitude = second.radius * tilt;
+  const double band = linking_band(first, second);
+  // a crossing needs heights strictly beyond the band on both sides; otherwise the circles are
+  // coplanar (never linked) or touch the plane without crossing it
+  if (amplitude - std::abs(h0) <= band) return 0;
+  // the two roots: (cos s, sin s) = k u -+ w u_perp, u = (alpha, beta) / tilt, k = -h0 / amplitude
+  const double k = -h0 / amplitude, w = std::sqrt(1.0 - k * k);
+  const double ua = alpha / tilt, ub = beta / tilt;
+  // open disk: a crossing on the rim, within the band, is outside
+  const double inner = first.radius - band;
+  if (inner <= 0.0) return 0;
   int crossings = 0;
-  double s0 = phase, h0 = height(s0);
-  for (int k = 1; k <= samples; ++k) {
-    const double s1 = phase + k * step, h1 = height(s1);
-    if ((h0 < 0.0) != (h1 < 0.0)) {
-      // bisect the crossing, then ask whether it lies inside the disk
-      double lo = s0, hi = s1, hlo = h0;
-      for (int it = 0; it < 50; ++it) {
-        const double mid = 0.5 * (lo + hi), hm = height(mid);
-        if ((hm < 0.0) == (hlo < 0.0))
-          lo = mid, hlo = hm;
-        else
-          hi = mid;
-      }
-      const Vec3 q = b.at(0.5 * (lo + hi)) - first.centre;
-      const Vec3 in_plane = q - q.dot(first.normal) * first.normal;
-      if (in_plane.norm() < first.radius) ++crossings;
-    }
-    s0 = s1, h0 = h1;
+  for (const double m : {w, -w}) {
+    const Vec3 q = offset + second.radius * ((k * ua - m * ub) * t0 + (k * ub + m * ua) * t1);
+    const double h = q.dot(n);
+    crossings += q.squaredNorm() - h * h < inner * inner;
   }
   return crossings;
 }

@@ -2,6 +2,8 @@
 // A ring is described by its centre circle: centre, unit normal and radius c.
 #pragma once
 
+#include <optional>
+
 #include "core/types.hpp"
 
 namespace chainmail {
@@ -20,13 +22,24 @@ double point_circle_distance(const Vec3& p, const Circle& circle);
 // accurate to about 1e-9 relative for the default sample count.
 double circle_circle_distance(const Circle& first, const Circle& second, int samples = 64);
 
+// the minimum distance between two circles when it is below `limit`, else nothing; cheap for
+// the common far case (centre distance or coarse samples decide), refined like
+// circle_circle_distance otherwise. Torus depth of equal tube radius a: 2a - distance
+std::optional<double> circles_closer_than(const Circle& first, const Circle& second, double limit);
+
 // two tori of equal tube radius a interpenetrate iff their centre circles come closer than 2a;
 // `tolerance` is subtracted from 2a so touching rings do not count.
+// same answer as circles_closer_than(first, second, 2a - tolerance).has_value()
 bool tori_interpenetrate(const Circle& first, const Circle& second, double wire_radius,
                          double tolerance);
 
-// number of times `second` crosses the open disk bounded by `first`
-int disk_crossings(const Circle& first, const Circle& second, int samples = 96);
+// number of times `second` crosses the open disk bounded by `first`: 0, 1 or 2, in closed form
+// (the height of a circle above a plane is a sinusoid). Robust: heights within a small band of the
+// first's plane count as on it, so coplanar circles (within the band) cross nothing, a touch
+// without a strict change of side is no crossing, and a crossing on the rim (within the band) is
+// outside. Round-off in a rigid placement never flips the count; the band is 1e-9 of the radii
+// plus a few ulps of the coordinates.
+int disk_crossings(const Circle& first, const Circle& second);
 // linked iff the second circle crosses the disk of the first exactly once
 inline bool circles_linked(const Circle& first, const Circle& second) {
   return disk_crossings(first, second) == 1;

@@ -11,9 +11,20 @@
 namespace chainmail {
 
 const std::vector<std::string>& metric_names() {
-  static const std::vector<std::string> names = {
-      "max_stretch", "mean_stretch",      "penetrating_linked", "penetrating_other", "broken_links",
-      "false_links", "drape_coefficient", "drape_rms",          "kinetic_energy",    "max_speed"};
+  static const std::vector<std::string> names = {"max_stretch",
+                                                 "mean_stretch",
+                                                 "penetrating_linked",
+                                                 "penetrating_other",
+                                                 "penetration_max_linked",
+                                                 "penetration_mean_linked",
+                                                 "penetration_max_other",
+                                                 "penetration_mean_other",
+                                                 "broken_links",
+                                                 "false_links",
+                                                 "drape_coefficient",
+                                                 "drape_rms",
+                                                 "kinetic_energy",
+                                                 "max_speed"};
   return names;
 }
 
@@ -23,6 +34,10 @@ double metric_value(const Metrics& m, const std::string& name) {
   if (name == "mean_stretch") return m.mean_stretch;
   if (name == "penetrating_linked") return static_cast<double>(m.penetrating_linked);
   if (name == "penetrating_other") return static_cast<double>(m.penetrating_other);
+  if (name == "penetration_max_linked") return m.penetration_max_linked;
+  if (name == "penetration_mean_linked") return m.penetration_mean_linked;
+  if (name == "penetration_max_other") return m.penetration_max_other;
+  if (name == "penetration_mean_other") return m.penetration_mean_other;
   if (name == "broken_links") return static_cast<double>(m.broken_links);
   if (name == "false_links") return static_cast<double>(m.false_links);
   if (name == "drape_coefficient") return m.drape_coefficient.value_or(absent);
@@ -32,12 +47,78 @@ double metric_value(const Metrics& m, const std::string& name) {
   return absent;
 }
 
+namespace {
+
+// interpenetrating pairs and their depths, m
+struct Penetration {
+  long long count = 0;
+  double max = 0.0, sum = 0.0;
+  double mean() const { return count > 0 ? sum / count : 0.0; }
+};
+
+// tori of tube radius a interpenetrate when their centre circles come closer than 2a - tolerance;
+// the depth is 2a minus that distance
+void add_penetration(const Circle& first, const Circle& second, double a, double tolerance,
+                     Penetration& into) {
+  const std::optional<double> distance = circles_closer_than(first, second, 2.0 * a - tolerance);
+  if (!distance) return;
+  ++into.count;
+  into.max = std::max(into.max, 2.0 * a - *distance);
+  into.sum += 2.0 * a - *distance;
+}
+
+// linked pairs: stretch, interpenetration, still linked. A plain grid (the cloth scenes) has no
+// rings (circles empty): its stretch is against each edge's rest length, the ring counts stay 0
+void measure_links(const RingFrame& frame, const Weave& weave, const RingGeometry& ring,
+                   const std::vector<Circle>& circles, Metrics& m) {
+  const bool rings = !circles.empty();
+  const double a = ring.wire_radius, tolerance = 1e-3 * a;
+  double stretch_sum = 0.0;
+  Penetration depth;
+  for (const RingPair& link : weave.links) {
+    const double length = (frame.position.col(link.a) - frame.position.col(link.b)).norm();
+    const double rest =
+        rings ? ring.max_link_distance()
+              : (weave.rest_position.col(link.a) - weave.rest_position.col(link.b)).norm();
+    m.max_stretch = std::max(m.max_stretch, length / rest);
+    stretch_sum += length / rest;
+    if (!rings) continue;
+    add_penetration(circles[link.a], circles[link.b], a, tolerance, depth);
+    m.broken_links += !circles_linked(circles[link.a], circles[link.b]);
+  }
+  if (!weave.links.empty()) m.mean_stretch = stretch_sum / weave.links.size();
+  m.penetrating_linked = depth.count;
+  m.penetration_max_linked = depth.max;
+  m.penetration_mean_linked = depth.mean();
+}
+
+// other pairs: only those whose centres are close enough to touch or link (< 2c + 2a)
+void measure_other_pairs(const RingFrame& frame, const Weave& weave, const RingGeometry& ring,
+                         const std::vector<Circle>& circles, Metrics& m) {
+  const int n = frame.size();
+  const double a = ring.wire_radius, c = ring.centre_radius;
+  std::unordered_set<long long> linked;
+  for (const RingPair& link : weave.links)
+    linked.insert(static_cast<long long>(link.a) * n + link.b);
+  const double reach = 2.0 * c + 2.0 * a;
+  Penetration depth;
+  SpatialHash hash;
+  hash.build(frame.position, reach);
+  hash.for_each_pair(frame.position, reach, [&](int i, int j) {
+    if (linked.count(static_cast<long long>(i) * n + j)) return;
+    add_penetration(circles[i], circles[j], a, 1e-3 * a, depth);
+    m.false_links += circles_linked(circles[i], circles[j]);
+  });
+  m.penetrating_other = depth.count;
+  m.penetration_max_other = depth.max;
+  m.penetration_mean_other = depth.mean();
+}
+
+}  // namespace
+
 Metrics measure(const RingFrame& frame, const Weave& weave, const Scene& scene,
                 const MetricOptions& options) {
   Metrics m;
-  const RingGeometry& ring = scene.ring;
-  const double a = ring.wire_radius, c = ring.centre_radius;
-  const double tolerance = 1e-3 * a;
   const int n = frame.size();
 
   // non-finite entries are counted; geometry on them would be meaningless
@@ -45,53 +126,27 @@ Metrics measure(const RingFrame& frame, const Weave& weave, const Scene& scene,
                  (!frame.orientation.array().isFinite()).count() +
                  (!frame.velocity.array().isFinite()).count();
   if (m.non_finite > 0) {
-    m.max_stretch = m.mean_stretch = m.kinetic_energy = m.max_speed =
-        std::numeric_limits<double>::quiet_NaN();
+    m.max_stretch = m.mean_stretch = m.kinetic_energy = m.max_speed = m.penetration_max_linked =
+        m.penetration_mean_linked = m.penetration_max_other = m.penetration_mean_other =
+            std::numeric_limits<double>::quiet_NaN();
     return m;
   }
 
-  // linked pairs: stretch, interpenetration, still linked. A plain grid (the cloth scenes) has no
-  // rings: its stretch is against each edge's rest length and the ring-pair counts stay 0
   const bool rings = weave.type != WeaveType::grid;
   std::vector<Circle> circles(rings ? n : 0);
   for (size_t i = 0; i < circles.size(); ++i) {
-    circles[i] = ring_circle(frame.position.col(i), frame.quat(static_cast<int>(i)), c);
+    circles[i] = ring_circle(frame.position.col(i), frame.quat(static_cast<int>(i)),
+                             scene.ring.centre_radius);
   }
-  double stretch_sum = 0.0;
-  for (const RingPair& link : weave.links) {
-    const double length = (frame.position.col(link.a) - frame.position.col(link.b)).norm();
-    const double stretch =
-        length / (rings
-                      ? ring.max_link_distance()
-                      : (weave.rest_position.col(link.a) - weave.rest_position.col(link.b)).norm());
-    m.max_stretch = std::max(m.max_stretch, stretch);
-    stretch_sum += stretch;
-    if (!rings) continue;
-    m.penetrating_linked += tori_interpenetrate(circles[link.a], circles[link.b], a, tolerance);
-    m.broken_links += !circles_linked(circles[link.a], circles[link.b]);
-  }
-  if (!weave.links.empty()) m.mean_stretch = stretch_sum / weave.links.size();
-
-  // other pairs: only those whose centres are close enough to touch or link (< 2c + 2a)
-  if (options.other_pairs && n > 1 && rings) {
-    std::unordered_set<long long> linked;
-    for (const RingPair& link : weave.links)
-      linked.insert(static_cast<long long>(link.a) * n + link.b);
-    const double reach = 2.0 * c + 2.0 * a;
-    SpatialHash hash;
-    hash.build(frame.position, reach);
-    hash.for_each_pair(frame.position, reach, [&](int i, int j) {
-      if (linked.count(static_cast<long long>(i) * n + j)) return;
-      m.penetrating_other += tori_interpenetrate(circles[i], circles[j], a, tolerance);
-      m.false_links += circles_linked(circles[i], circles[j]);
-    });
-  }
+  measure_links(frame, weave, scene.ring, circles, m);
+  if (options.other_pairs && n > 1 && rings)
+    measure_other_pairs(frame, weave, scene.ring, circles, m);
 
   // drape: Cusick's coefficient against the flat rest layout, only where the scene has a support
   if (scene.support) {
     RingFrame flat;
     flat.position = weave.rest_position;
-    m.drape_coefficient = drape_coefficient(frame, flat, *scene.support, c);
+    m.drape_coefficient = drape_coefficient(frame, flat, *scene.support, scene.ring.centre_radius);
   }
 
   // motion

@@ -16,6 +16,10 @@ struct Metrics {
   double mean_stretch = 0.0;
   long long penetrating_linked = 0;         // neighbour pairs whose tori interpenetrate
   long long penetrating_other = 0;          // other pairs whose tori interpenetrate
+  double penetration_max_linked = 0.0;      // m, 2a - centre-circle distance over penetrating
+  double penetration_mean_linked = 0.0;     // m   neighbour pairs (0 when none)
+  double penetration_max_other = 0.0;       // m, the same over penetrating other pairs
+  double penetration_mean_other = 0.0;      // m
   long long broken_links = 0;               // neighbour pairs no longer linked
   long long false_links = 0;                // other pairs now linked
   std::optional<double> drape_coefficient;  // Cusick, scenes with a support only

@@ -108,10 +108,26 @@ struct Scene {
   nlohmann::json resolved;                             // the whole scene with defaults filled in
 };
 
+// limits on scene text (DESIGN.md, "Scene file"). Nesting deeper than kMaxJsonDepth containers
+// is refused while parsing, before anything recursive (copy, dump, compare) could overflow the
+// stack; a file larger than kMaxSceneFileBytes is refused without reading it all
+inline constexpr int kMaxJsonDepth = 64;
+inline constexpr long long kMaxSceneFileBytes = 16LL << 20;  // 16 MiB
+// smallest length (m: ring diameters, grid spacing, collider and support sizes) and density
+// (kg/m^3) a scene may give: ring mass, inertia and areas stay normal finite doubles
+inline constexpr double kMinLength = 1e-6;
+inline constexpr double kMinDensity = 1.0;
+
+// strict JSON for scene text, comments allowed: refuses duplicate keys, numbers beyond double
+// range and nesting deeper than kMaxJsonDepth. Throws SceneError "<source>: key '<path>': <what>"
+// or "<source>: JSON syntax error at line L, column C: ..."; never a nlohmann exception
+nlohmann::json parse_json_strict(const std::string& text, const std::string& source);
+
 // parse + validate; throws SceneError naming file and key
 Scene load_scene_file(const std::string& path, const std::vector<std::string>& overrides = {});
 Scene scene_from_json(const nlohmann::json& document, const std::string& file);
-// apply one "dotted.key=value" override to a raw scene document; throws SceneError
+// apply one "dotted.key=value" override to a raw scene document; throws SceneError. The value is
+// strict JSON when it parses as JSON (1e400 and duplicate keys are errors), else a plain string
 void apply_override(nlohmann::json& document, const std::string& assignment,
                     const std::string& file);
 

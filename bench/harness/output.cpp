@@ -8,22 +8,29 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
+
+#include "bench/harness/version.hpp"
 
 namespace chainmail {
 namespace fs = std::filesystem;
 
 std::string csv_number(double value) {
-  if (std::isnan(value)) return "";
+  if (!std::isfinite(value)) return "";
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.9g", value);
   return buffer;
 }
 
 std::string table_number(double value, int significant) {
-  if (std::isnan(value)) return "-";
+  if (!std::isfinite(value)) return "-";
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.*g", significant, value);
   return buffer;
+}
+
+nlohmann::json json_number(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
 }
 
 void write_file_atomic(const std::string& path, const std::string& text) {
@@ -38,24 +45,51 @@ void write_file_atomic(const std::string& path, const std::string& text) {
   fs::rename(tmp, path);
 }
 
-void write_folder_atomic(const std::string& path,
-                         const std::function<void(const std::string&)>& fill) {
-  const fs::path target(path);
-  const std::string pid = std::to_string(::getpid());
-  const fs::path staging = target.string() + ".partial-" + pid;
-  const fs::path old = target.string() + ".old-" + pid;
-  fs::remove_all(staging);
-  fs::create_directories(staging);
-  try {
-    fill(staging.string());
-  } catch (...) {
-    fs::remove_all(staging);
-    throw;
+namespace {
+
+nlohmann::json backend_entry(const BackendRun& b) {
+  nlohmann::json entry;
+  entry["dt"] = b.dt;
+  entry["steps"] = b.steps;
+  entry["wall_s"] = b.wall_s;
+  entry["ms_per_step"] = b.ms_per_step();
+  entry["realtime_factor"] = b.realtime_factor();
+  entry["stable"] = b.stable;
+  entry["verdict"] = b.verdict;
+  char hash[17];
+  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(b.hash));
+  entry["hash"] = b.started() ? nlohmann::json(hash) : nlohmann::json(nullptr);
+  entry["samples"] = b.samples;
+  entry["settled"] = b.settled ? nlohmann::json(*b.settled) : nlohmann::json(nullptr);
+  entry["overstretched"] =
+      b.overstretched ? nlohmann::json(*b.overstretched) : nlohmann::json(nullptr);
+  entry["peak_stretch"] = b.started() ? json_number(b.peak_stretch) : nlohmann::json(nullptr);
+  nlohmann::json final_metrics = nlohmann::json::object();
+  if (b.started()) {
+    const Metrics& m = b.final_metrics();
+    for (const auto& name : metric_names()) {
+      const double v = metric_value(m, name);
+      // absent metrics stay absent, never zero; failed ones (inf, NaN of a blown-up run) are null
+      if (name == "drape_rms" && !m.drape_rms) continue;
+      if (name == "drape_coefficient" && !m.drape_coefficient) continue;
+      final_metrics[name] = json_number(v);
+    }
+    final_metrics["non_finite"] = m.non_finite;
   }
-  if (fs::exists(target)) fs::rename(target, old);
-  fs::rename(staging, target);
-  fs::remove_all(old);
+  entry["final"] = final_metrics;
+  if (b.catenary_error) entry["catenary_error"] = json_number(*b.catenary_error);
+  nlohmann::json knobs = nlohmann::json::object();
+  for (const auto& [k, v] : b.knobs) knobs[k] = v;
+  entry["knobs"] = knobs;
+  nlohmann::json stages = nlohmann::json::object();
+  for (const auto& [stage, stats] : b.stages) {
+    stages[stage] = {{"calls", stats.calls}, {"ms", 1e3 * stats.seconds}};
+  }
+  entry["stages"] = stages;
+  return entry;
 }
+
+}  // namespace
 
 nlohmann::json summary_json(const SceneRun& run) {
   nlohmann::json out;
@@ -64,62 +98,49 @@ nlohmann::json summary_json(const SceneRun& run) {
                  {"centre_radius", run.scene.ring.centre_radius},
                  {"mass", run.scene.ring.mass()},
                  {"count", run.weave.size()}};
+  out["build"] = {{"version", chainmail_version()},
+                  {"commit", chainmail_commit()},
+                  {"compiler", chainmail_build()},
+                  {"threads", 1},
+                  {"host_cores", std::thread::hardware_concurrency()}};
   if (run.reference_note) out["reference"] = *run.reference_note;
+  out["interrupted"] = run.interrupted;
   nlohmann::json backends = nlohmann::json::object();
-  for (const BackendRun& b : run.runs) {
-    nlohmann::json entry;
-    entry["dt"] = b.dt;
-    entry["steps"] = b.steps;
-    entry["wall_s"] = b.wall_s;
-    entry["ms_per_step"] = b.ms_per_step();
-    entry["realtime_factor"] = b.realtime_factor();
-    entry["stable"] = b.stable;
-    entry["verdict"] = b.verdict;
-    char hash[17];
-    std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(b.hash));
-    entry["hash"] = hash;
-    nlohmann::json final_metrics = nlohmann::json::object();
-    const Metrics& m = b.final_metrics();
-    for (const auto& name : metric_names()) {
-      const double v = metric_value(m, name);
-      if (!std::isnan(v)) final_metrics[name] = v;  // absent metrics stay absent, never zero
-    }
-    final_metrics["non_finite"] = m.non_finite;
-    entry["final"] = final_metrics;
-    if (b.catenary_error) entry["catenary_error"] = *b.catenary_error;
-    nlohmann::json knobs = nlohmann::json::object();
-    for (const auto& [k, v] : b.knobs) knobs[k] = v;
-    entry["knobs"] = knobs;
-    nlohmann::json stages = nlohmann::json::object();
-    for (const auto& [stage, stats] : b.stages) {
-      stages[stage] = {{"calls", stats.calls}, {"ms", 1e3 * stats.seconds}};
-    }
-    entry["stages"] = stages;
-    backends[b.name] = entry;
-  }
+  for (const BackendRun& b : run.runs) backends[b.name] = backend_entry(b);
   out["backends"] = backends;
   return out;
 }
 
-std::string metrics_csv(const SceneRun& run) {
-  std::ostringstream out;
-  out << "backend,t";
-  for (const auto& name : metric_names()) out << ',' << name;
-  out << ",step_wall_ms\n";
-  for (const BackendRun& b : run.runs) {
-    for (const Sample& s : b.samples) {
-      out << b.name << ',' << csv_number(s.t);
-      for (const auto& name : metric_names())
-        out << ',' << csv_number(metric_value(s.metrics, name));
-      out << ',' << csv_number(s.step_wall_ms) << '\n';
-    }
-  }
-  return out.str();
+std::string metrics_header() {
+  std::string header = "backend,t";
+  for (const auto& name : metric_names()) header += "," + name;
+  return header + ",step_wall_ms\n";
 }
+
+std::string metrics_row(const std::string& backend, const Sample& s) {
+  std::string row = backend + "," + csv_number(s.t);
+  for (const auto& name : metric_names()) row += "," + csv_number(metric_value(s.metrics, name));
+  return row + "," + csv_number(s.step_wall_ms) + "\n";
+}
+
+namespace {
+
+// a flag cell: yes / no / - (not decided)
+const char* flag(const std::optional<bool>& value) {
+  return value ? (*value ? "yes" : "no") : "-";
+}
+
+// a depth in units of the wire radius a
+std::string in_wire_radii(double depth_m, double a) {
+  return table_number(depth_m / a, 3);
+}
+
+}  // namespace
 
 std::string table_markdown(const SceneRun& run) {
   std::ostringstream out;
   const Scene& scene = run.scene;
+  const double a = scene.ring.wire_radius;
   out << "# " << scene.name << "\n\n";
   if (!scene.description.empty()) out << scene.description << "\n\n";
   out << run.weave.size() << " rings (" << to_string(scene.weave.type) << ", " << scene.weave.rows
@@ -128,30 +149,49 @@ std::string table_markdown(const SceneRun& run) {
   out << ".\n\n";
 
   double plausible_ms = 0.0;
+  bool catenary = false;
   for (const auto& b : run.runs) {
-    if (b.name == "plausible") plausible_ms = b.ms_per_step() / b.dt;
+    if (b.name == "plausible" && b.dt > 0) plausible_ms = b.ms_per_step() / b.dt;
+    catenary |= b.catenary_error.has_value();
   }
-  out << "| backend | dt (s) | ms/step | real-time factor | cost vs plausible | verdict |"
-         " max_stretch | mean_stretch | penetrating_linked | penetrating_other | broken_links |"
-         " false_links | drape_rms (mm) | drape_coefficient |\n";
-  out << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  char line[1024];
+  out << "| backend | dt (s) | ms/step | real-time factor | cost vs plausible | verdict | settled |"
+         " overstretched | max_stretch | mean_stretch | penetrating_linked | depth max/mean "
+         "linked (a) | penetrating_other | depth max/mean other (a) | broken_links | false_links |"
+         " drape_rms (mm) | drape_coefficient |"
+      << (catenary ? " catenary sag error |" : "") << "\n";
+  out << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+      << (catenary ? "---|" : "") << "\n";
   for (const auto& b : run.runs) {
-    const Metrics& m = b.final_metrics();
     // cost per simulated second relative to plausible's
     const double relative = plausible_ms > 0 ? (b.ms_per_step() / b.dt) / plausible_ms : NAN;
-    std::snprintf(
-        line, sizeof line,
-        "| %s | %g | %.3f | %.2f | %s | %s | %.4f | %.4f | %lld | %lld | %lld | %lld | %s "
-        "| %s |\n",
-        b.name.c_str(), b.dt, b.ms_per_step(), b.realtime_factor(),
-        std::isnan(relative) ? "-" : (table_number(relative, 3) + "x").c_str(), b.verdict.c_str(),
-        m.max_stretch, m.mean_stretch, m.penetrating_linked, m.penetrating_other, m.broken_links,
-        m.false_links, m.drape_rms ? table_number(1e3 * *m.drape_rms, 3).c_str() : "-",
-        m.drape_coefficient ? table_number(*m.drape_coefficient, 3).c_str() : "-");
-    out << line;
+    out << "| " << b.name << " | " << b.dt << " | " << table_number(b.ms_per_step(), 4) << " | "
+        << table_number(b.realtime_factor(), 3) << " | "
+        << (std::isnan(relative) ? "-" : table_number(relative, 3) + "x") << " | " << b.verdict
+        << " | " << flag(b.settled) << " | " << flag(b.overstretched) << " | ";
+    if (!b.started()) {
+      out << "- | - | - | - | - | - | - | - | - | - |" << (catenary ? " - |" : "") << "\n";
+      continue;
+    }
+    const Metrics& m = b.final_metrics();
+    out << table_number(m.max_stretch, 4) << " | " << table_number(m.mean_stretch, 4) << " | "
+        << m.penetrating_linked << " | " << in_wire_radii(m.penetration_max_linked, a) << " / "
+        << in_wire_radii(m.penetration_mean_linked, a) << " | " << m.penetrating_other << " | "
+        << in_wire_radii(m.penetration_max_other, a) << " / "
+        << in_wire_radii(m.penetration_mean_other, a) << " | " << m.broken_links << " | "
+        << m.false_links << " | " << (m.drape_rms ? table_number(1e3 * *m.drape_rms, 3) : "-")
+        << " | " << (m.drape_coefficient ? table_number(*m.drape_coefficient, 3) : "-") << " |";
+    if (catenary)
+      out << " " << (b.catenary_error ? table_number(100.0 * *b.catenary_error, 3) + " %" : "-")
+          << " |";
+    out << "\n";
   }
-  out << "\nms/step counts `step()` only; real-time factor = simulated / wall seconds.\n";
+  out << "\nms/step counts `step()` only; real-time factor = simulated / wall seconds. Depths are "
+         "2a minus the centre-circle distance of interpenetrating pairs, in wire radii a. "
+         "settled: kinetic energy at the end below "
+      << table_number(100.0 * kSettledEnergyFraction, 3)
+      << " % of the energy released; overstretched: a link's stretch went above "
+      << table_number(1.0 + kOverstretchTolerance, 4)
+      << " at some sample (impossible for real rings).\n";
   return out.str();
 }
 
@@ -171,22 +211,26 @@ std::string frame_csv(const RingFrame& frame, const Weave& weave) {
 
 void write_run_folder(const SceneRun& run, const std::string& folder,
                       const OutputOptions& options) {
-  write_folder_atomic(folder, [&](const std::string& staging) {
-    write_file_atomic(staging + "/summary.json", summary_json(run).dump(2) + "\n");
-    write_file_atomic(staging + "/metrics.csv", metrics_csv(run));
-    write_file_atomic(staging + "/table.md", table_markdown(run));
-    if (options.frames) {
-      for (const BackendRun& b : run.runs) {
-        for (size_t k = 0; k < b.frames.size(); ++k) {
-          char name[32];
-          std::snprintf(name, sizeof name, "/%05zu.csv", k);
-          write_file_atomic(staging + "/frames/" + b.name + name,
-                            frame_csv(b.frames[k], run.weave));
-        }
-      }
+  fs::create_directories(folder);
+  write_file_atomic(folder + "/summary.json", summary_json(run).dump(2) + "\n");
+  // metrics.csv: the rows each backend streamed, in the order of the runs
+  {
+    const std::string path = folder + "/metrics.csv";
+    std::ofstream out(path + ".tmp", std::ios::binary);
+    out << metrics_header();
+    for (const BackendRun& b : run.runs) {
+      std::ifstream rows(folder + "/.streams/" + b.name + ".csv", std::ios::binary);
+      if (rows && rows.peek() != std::ifstream::traits_type::eof()) out << rows.rdbuf();
     }
-    if (options.render) options.render(run, staging + "/images");
-  });
+    out.flush();
+    if (!out) throw std::runtime_error("cannot write " + path);
+    out.close();
+    fs::rename(path + ".tmp", path);
+  }
+  write_file_atomic(folder + "/table.md", table_markdown(run));
+  if (options.render && !run.interrupted) options.render(run, folder + "/images");
+  std::error_code ignored;
+  fs::remove_all(folder + "/.streams", ignored);
 }
 
 }  // namespace chainmail

@@ -1,6 +1,6 @@
-// Writing a run's results: summary.json, metrics.csv, table.md, frame CSVs (DESIGN.md contracts).
-// Everything goes into a staging folder that replaces the destination in one rename, so an
-// interrupted run never leaves a half-written result.
+// Writing a run's results: summary.json, metrics.csv, table.md, frame CSVs (see docs/).
+// Everything is written into a command's staging folder (bench/harness/output_folder.hpp), which
+// replaces the destination only when complete, so an interrupted run never leaves half a result.
 #pragma once
 
 #include <functional>
@@ -12,30 +12,30 @@
 
 namespace chainmail {
 
-// write `text` to `path` through a temporary file and a rename
+// write `text` to `path` through a temporary file and a rename (parents created)
 void write_file_atomic(const std::string& path, const std::string& text);
 
-// a folder filled by `fill(staging_path)`, then moved onto `path` (replacing what was there)
-void write_folder_atomic(const std::string& path,
-                         const std::function<void(const std::string&)>& fill);
-
 nlohmann::json summary_json(const SceneRun& run);
-std::string metrics_csv(const SceneRun& run);
+// header of metrics.csv, and one row of it
+std::string metrics_header();
+std::string metrics_row(const std::string& backend, const Sample& sample);
 std::string table_markdown(const SceneRun& run);
 std::string frame_csv(const RingFrame& frame, const Weave& weave);
 
-// the number formatting every CSV uses (empty for NaN: an absent metric)
+// the number formatting every CSV uses (empty for NaN and inf: an absent or failed metric)
 std::string csv_number(double value);
-// a number for a Markdown table: `significant` digits, "-" for NaN
+// a number for a Markdown table: `significant` digits, "-" for NaN and inf
 std::string table_number(double value, int significant);
+// a number for JSON: null when not finite
+nlohmann::json json_number(double value);
 
 struct OutputOptions {
-  bool frames = false;  // frames/<backend>/<NNNNN>.csv
-  // draws images into <folder>/images; empty = no rendering
+  // draws images into <folder>/images from the runs' frame streams; empty = no rendering
   std::function<void(const SceneRun&, const std::string& images_folder)> render;
 };
 
-// the whole DESIGN.md result folder for one run
+// summary.json, metrics.csv (from the rows streamed into <folder>/.streams), table.md and the
+// images, into `folder` (a staging folder); the streams are removed after
 void write_run_folder(const SceneRun& run, const std::string& folder, const OutputOptions& options);
 
 }  // namespace chainmail

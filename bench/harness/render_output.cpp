@@ -1,10 +1,12 @@
 #include "bench/harness/render_output.hpp"
 
+#include <stdlib.h>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
 #include "backends/backend.hpp"
+#include "bench/harness/frame_stream.hpp"
 #include "core/scene.hpp"
 #if CHAINMAIL_HAVE_RENDER
 #include "render/renderer.hpp"
@@ -14,7 +16,10 @@ namespace chainmail {
 
 #if CHAINMAIL_HAVE_RENDER
 std::function<void(const SceneRun&, const std::string&)> make_render_writer(
-    const std::string& cloth_shader, const std::string& material) {
+    const std::string& cloth_shader, const std::string& material, bool last_only) {
+  // Mesa would keep a shader cache in the user's cache folder: nothing is written but what was
+  // asked
+  ::setenv("MESA_SHADER_CACHE_DISABLE", "true", /*overwrite=*/0);
   render::RenderSettings settings;
   if (!material.empty()) settings.material = material;
   // the textured-cloth baseline shows a chainmail texture unless another shader is asked for
@@ -25,21 +30,34 @@ std::function<void(const SceneRun&, const std::string&)> make_render_writer(
   } catch (const render::RenderError& e) {
     throw SceneError(std::string("--render: ") + e.what());
   }
-  return [renderer](const SceneRun& run, const std::string& folder) {
+  return [renderer, last_only](const SceneRun& run, const std::string& folder) {
     std::filesystem::create_directories(folder);
+    // every backend's frames, read back one sample at a time from its stream
+    struct Source {
+      const BackendRun* run;
+      FrameReader reader;
+      RingFrame frame;
+    };
+    std::vector<Source> sources;
     size_t samples = 0;
-    for (const auto& b : run.runs) samples = std::max(samples, b.frames.size());
-    // one image per sample: every backend's frame at that sample, side by side, same camera
-    for (size_t k = 0; k < samples; ++k) {
+    for (const auto& b : run.runs) {
+      if (b.stream.empty()) continue;
+      auto reader = FrameReader::open(b.stream, run.weave.size());
+      if (!reader) continue;
+      samples = std::max(samples, reader->count());
+      sources.push_back({&b, std::move(*reader), RingFrame()});
+    }
+    // one image per sample (or the last only): every backend's frame at it, side by side
+    for (size_t k = last_only && samples ? samples - 1 : 0; k < samples; ++k) {
       std::vector<render::Panel> panels;
-      for (const auto& b : run.runs) {
-        if (b.frames.empty()) continue;
+      for (auto& source : sources) {
+        if (!source.reader.read(std::min(k, source.reader.count() - 1), source.frame)) continue;
         render::Panel panel;
-        panel.label = b.name;
-        panel.frame = &b.frames[std::min(k, b.frames.size() - 1)];
-        const BackendInfo* info = find_backend(b.name);
+        panel.label = source.run->name;
+        panel.frame = &source.frame;
+        const BackendInfo* info = find_backend(source.run->name);
         panel.as_cloth = info && info->cloth_surface;
-        panel.ms_per_step = b.ms_per_step();
+        panel.ms_per_step = source.run->ms_per_step();
         panels.push_back(panel);
       }
       char name[32];
@@ -47,7 +65,7 @@ std::function<void(const SceneRun&, const std::string&)> make_render_writer(
       render::write_png(renderer->render(run.scene, run.weave, panels), folder + name);
     }
     // a movie of the images when ffmpeg is installed
-    if (samples > 1) {
+    if (samples > 1 && !last_only) {
       if (std::system("command -v ffmpeg >/dev/null 2>&1") == 0) {
         const std::string command =
             "ffmpeg -loglevel error -y -framerate 20 -i '" + folder +
@@ -64,7 +82,8 @@ std::function<void(const SceneRun&, const std::string&)> make_render_writer(
 }
 #else
 std::function<void(const SceneRun&, const std::string&)> make_render_writer(const std::string&,
-                                                                            const std::string&) {
+                                                                            const std::string&,
+                                                                            bool) {
   throw SceneError(
       "--render: this build has no renderer (configured with CHAINMAIL_WITH_RENDER=OFF)");
 }

@@ -1,7 +1,10 @@
 // Running one scene through one or more backends, and everything a run measures.
+// Samples are streamed: each sample's metric row and frame go to disk as they are taken, so the
+// memory a run needs does not grow with its duration.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -15,13 +18,23 @@
 
 namespace chainmail {
 
+// a ring run is settled when its kinetic energy at the end is below this fraction of the energy
+// the run was given (potential energy released plus the initial kinetic energy)
+inline constexpr double kSettledEnergyFraction = 0.01;
+// linked rings cannot be farther apart than the inner diameter: above 1 + this is impossible
+inline constexpr double kOverstretchTolerance = 0.005;
+
 struct RunOptions {
   std::vector<std::string> backends;  // empty: the scene's backends object, else every backend
-  bool keep_frames = true;            // keep the sampled frames (rendering, frame files, drape_rms)
   bool progress = true;               // progress line on stderr for runs longer than a second
   double max_wall_seconds = 0.0;      // watchdog per backend run; 0 = none
-  std::string cache_dir;              // reference runs cached here by scene hash; empty = no cache
+  std::string cache_dir;              // reference runs cached here by content hash; "" = none
+  std::string reference;              // backend for drape_rms; "" = the scene's, "none" = none
   bool other_pair_metrics = true;  // penetrating_other / false_links (broad phase over all rings)
+  // where a run streams its samples (a command's staging folder); "" = nothing written
+  std::string folder;
+  bool frame_csv = false;    // frames/<backend>/<NNNNN>.csv under folder
+  bool keep_stream = false;  // every backend's frames in .streams/ under folder (for rendering)
 };
 
 struct Sample {
@@ -30,6 +43,9 @@ struct Sample {
   double step_wall_ms = 0.0;  // mean wall time of the steps since the previous sample
 };
 
+// called for every sample as it is taken (the frame is finite unless the verdict says otherwise)
+using SampleHook = std::function<void(const RingFrame& frame, Sample& sample)>;
+
 struct BackendRun {
   std::string name;
   Knobs knobs;
@@ -37,18 +53,23 @@ struct BackendRun {
   long long steps = 0;
   double wall_s = 0.0;  // time inside step() only
   bool stable = true;
-  std::string verdict = "stable";  // or the instability that ended the run
+  std::string verdict = "stable";  // or the instability that ended the run, or "interrupted"
   std::uint64_t hash = 0;          // frame_hash of the final frame
-  std::vector<Sample> samples;
-  std::vector<RingFrame> frames;  // one per sample when keep_frames
+  long long samples = 0;           // samples taken
+  std::optional<Sample> last;      // the last sample (absent when the run never started)
   RingFrame final_frame;
   std::map<std::string, StageStats> stages;
   std::optional<double> catenary_error;  // chains pinned at both ends: sag against the catenary
+  double peak_stretch = 0.0;             // largest max_stretch over every sample
+  std::optional<bool> settled;           // absent when the run did not end stable
+  std::optional<bool> overstretched;     // ring weaves only: peak_stretch above 1 + tolerance
+  std::string stream;                    // file of its sampled frames ("" when none was kept)
 
   double ms_per_step() const { return steps ? 1e3 * wall_s / steps : 0.0; }
   // simulated seconds per wall second
   double realtime_factor() const { return wall_s > 0 ? steps * dt / wall_s : 0.0; }
-  const Metrics& final_metrics() const { return samples.back().metrics; }
+  bool started() const { return last.has_value(); }
+  const Metrics& final_metrics() const { return last->metrics; }
 };
 
 struct SceneRun {
@@ -56,6 +77,7 @@ struct SceneRun {
   Weave weave;
   std::vector<BackendRun> runs;
   std::optional<std::string> reference_note;  // where drape_rms came from
+  bool interrupted = false;                   // a signal stopped it: some runs did not finish
   bool all_stable() const;
 };
 
@@ -63,16 +85,25 @@ struct SceneRun {
 std::vector<std::string> select_backends(const Scene& scene,
                                          const std::vector<std::string>& requested);
 
-// one backend over the scene's duration; never throws for an unstable simulation
+// one backend over the scene's duration; never throws for an unstable simulation. Stops early on
+// a signal (verdict "interrupted"). `hook` sees every sample as it is taken.
 BackendRun run_backend(const Scene& scene, const Weave& weave, const std::string& backend,
-                       const RunOptions& options);
+                       const RunOptions& options, const SampleHook& hook = {});
 
-// every selected backend, then drape_rms against the reference run
+// every selected backend, drape_rms against the reference run taken as the samples come
 SceneRun run_scene(const Scene& scene, const RunOptions& options);
 
-// the frames of the reference run (scene.reference backend), from the cache when present
-std::vector<RingFrame> reference_frames(const Scene& scene, const Weave& weave,
-                                        const RunOptions& options, const SceneRun* already);
+// the reference backend of a run ("" when none: --reference none)
+std::string reference_backend(const Scene& scene, const RunOptions& options);
+// the scene the reference run uses (its reference_dt applied)
+Scene reference_scene(const Scene& scene, const std::string& reference);
+// the cache file of a reference run ("" without a cache folder)
+std::string reference_cache_path(const Scene& scene, const std::string& reference,
+                                 const std::string& cache_dir);
+// make sure the reference run is in the cache: run it unless a valid file is there. False when it
+// cannot be (unstable, or the cache cannot be written: then each user runs it again).
+bool ensure_reference_cached(const Scene& scene, const std::string& reference,
+                             const RunOptions& options);
 
 // hash of what determines a run's result (the resolved scene without output-only keys)
 std::string scene_content_hash(const Scene& scene, const std::string& backend);

@@ -1,5 +1,6 @@
 #include "bench/harness/suites.hpp"
 
+#include <fcntl.h>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -12,9 +13,18 @@
 #include <sstream>
 #include <thread>
 
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include "bench/harness/commands.hpp"
+#include "bench/harness/interrupt.hpp"
 #include "bench/harness/output.hpp"
+#include "bench/harness/output_folder.hpp"
 #include "bench/harness/render_output.hpp"
+
+extern char** environ;
 
 namespace chainmail {
 namespace fs = std::filesystem;
@@ -23,6 +33,11 @@ using json = nlohmann::json;
 namespace {
 
 std::string shell_quote(const std::string& s) {
+  // plain words stay as they are, so that printed command lines read naturally
+  if (!s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                        "0123456789-_./,:+") == std::string::npos) {
+    return s;
+  }
   std::string out = "'";
   for (char ch : s) out += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
   return out + "'";
@@ -46,6 +61,29 @@ void run_parallel(int count, int jobs, const std::function<void(int)>& job) {
     });
   }
   for (auto& t : workers) t.join();
+}
+
+// runs `argv` to completion with stdout and stderr into `log`; a signal to this process is passed
+// on as SIGTERM (so the child writes what it finished). Returns the exit status (-1: no start).
+int run_child(const std::vector<std::string>& argv, const std::string& log) {
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_addopen(&files, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&files, 1, 2);
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  pid_t pid = -1;
+  const int failed = posix_spawn(&pid, args[0], &files, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&files);
+  if (failed) return -1;
+  bool passed_on = false;
+  int status = 0;
+  while (::waitpid(pid, &status, WNOHANG) == 0) {
+    if (interrupted() && !passed_on) ::kill(pid, SIGTERM), passed_on = true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
 std::string source_dir() {
@@ -151,6 +189,7 @@ int sweep_command(const SweepCommand& command) {
         // validate now: a bad value is bad input before anything runs
         const Scene scene = load_scene_file(command.scene_file, p.sets);
         validate_backend_knobs(scene);
+        check_budget(scene, estimate_run(scene, {backend}, 0.0), Budget{});
         p.dt = resolve_knobs(scene, *find_backend(backend)).at("dt");
         points.push_back(p);
       }
@@ -163,13 +202,21 @@ int sweep_command(const SweepCommand& command) {
   const std::string out =
       command.out_dir.empty() ? "results/" + base.name + "/sweep" : command.out_dir;
   const std::string exe = command.executable.empty() ? "chainmail" : command.executable;
-  auto job_line = [&](size_t k) {
-    std::string line = shell_quote(exe) + " run " + shell_quote(command.scene_file) +
-                       " --backends " + points[k].backend + " --out " +
-                       shell_quote(out + "/points/" + std::to_string(k)) + " --cache " +
-                       shell_quote(command.cache_dir) + " --quiet";
-    for (const auto& s : points[k].sets) line += " --set " + shell_quote(s);
-    return line;
+  const std::string cache = resolve_cache_dir(command.cache_dir);
+  // one point's command line, writing into `folder` (argv form, no shell in between)
+  auto job_args = [&](size_t k, const std::string& folder) {
+    std::vector<std::string> args = {exe,
+                                     "run",
+                                     command.scene_file,
+                                     "--backends",
+                                     points[k].backend,
+                                     "--out",
+                                     folder + "/points/" + std::to_string(k),
+                                     "--cache",
+                                     cache.empty() ? "none" : cache,
+                                     "--quiet"};
+    for (const auto& s : points[k].sets) args.insert(args.end(), {"--set", s});
+    return args;
   };
   // every point is measured against one reference run, whatever the point's knobs (printed jobs
   // too): the scene's reference_dt when it names one, else the reference backend at the finest dt
@@ -184,29 +231,32 @@ int sweep_command(const SweepCommand& command) {
   const std::string reference_set = "reference_dt=" + csv_number(reference_dt);
   for (auto& p : points) p.sets.push_back(reference_set);
   if (command.print_jobs) {
-    for (size_t k = 0; k < points.size(); ++k) std::printf("%s\n", job_line(k).c_str());
+    for (size_t k = 0; k < points.size(); ++k) {
+      std::string line;
+      for (const auto& a : job_args(k, out)) line += (line.empty() ? "" : " ") + shell_quote(a);
+      std::printf("%s\n", line.c_str());
+    }
     return kExitOk;
   }
+  OutputFolder folder = OutputFolder::claim(out, "sweep", command.force);
+  const std::string staging = folder.staging();
 
   // the reference run once, before the points share it through the cache
   RunOptions reference_options;
   reference_options.progress = command.progress;
-  reference_options.cache_dir = command.cache_dir;
+  reference_options.cache_dir = cache;
   std::vector<std::string> reference_sets = command.overrides;
   reference_sets.push_back(reference_set);
   const Scene reference_scene = load_scene_file(command.scene_file, reference_sets);
-  reference_frames(reference_scene, make_weave(base.weave, base.ring), reference_options, nullptr);
+  if (!cache.empty() && !interrupted())
+    ensure_reference_cached(reference_scene, reference_scene.reference, reference_options);
 
-  fs::create_directories(out + "/points");
+  fs::create_directories(staging + "/points");
   std::mutex print;
   std::atomic<int> done{0};
   run_parallel(static_cast<int>(points.size()), command.jobs, [&](int k) {
-    // a point's old results must never stand in for a run that failed
-    std::error_code ignored;
-    fs::remove_all(out + "/points/" + std::to_string(k), ignored);
-    const std::string line =
-        job_line(k) + " >" + shell_quote(out + "/points/" + std::to_string(k) + ".log") + " 2>&1";
-    std::system(line.c_str());
+    if (interrupted()) return;
+    run_child(job_args(k, staging), staging + "/points/" + std::to_string(k) + ".log");
     std::lock_guard<std::mutex> lock(print);
     if (command.progress) std::fprintf(stderr, "  sweep point %d / %zu\n", ++done, points.size());
   });
@@ -221,32 +271,33 @@ int sweep_command(const SweepCommand& command) {
     const Point& p = points[k];
     csv << p.backend;
     for (const auto& v : p.values) csv << ',' << v;
-    std::ifstream in(out + "/points/" + std::to_string(k) + "/summary.json");
+    std::ifstream in(staging + "/points/" + std::to_string(k) + "/summary.json");
     json summary = json::parse(in, nullptr, false);
     if (summary.is_discarded() || !summary["backends"].contains(p.backend)) {
-      csv << ",,,,,false,error\n";
+      csv << ",,,,,false," << (interrupted() ? "interrupted" : "error") << "\n";
       ++unstable;
       continue;
     }
     const json& b = summary["backends"][p.backend];
+    auto number = [](const json& v) { return v.is_number() ? v.get<double>() : NAN; };
     // cost per simulated second of what was simulated: an unstable run stops early
-    const double simulated = b["steps"].get<double>() * b["dt"].get<double>();
-    const double duration =
-        simulated > 0.0 ? simulated : summary["scene"]["duration"].get<double>();
-    const double error =
-        b["final"].contains("drape_rms") ? b["final"]["drape_rms"].get<double>() : NAN;
-    const double cat = b.contains("catenary_error") ? b["catenary_error"].get<double>() : NAN;
-    csv << ',' << csv_number(b["wall_s"].get<double>() / duration) << ','
-        << csv_number(b["ms_per_step"].get<double>()) << ',' << csv_number(error) << ','
+    const double simulated = number(b["steps"]) * number(b["dt"]);
+    const double duration = simulated > 0.0 ? simulated : number(summary["scene"]["duration"]);
+    const double error = b["final"].contains("drape_rms") ? number(b["final"]["drape_rms"]) : NAN;
+    const double cat = b.contains("catenary_error") ? number(b["catenary_error"]) : NAN;
+    csv << ',' << csv_number(number(b["wall_s"]) / duration) << ','
+        << csv_number(number(b["ms_per_step"])) << ',' << csv_number(error) << ','
         << csv_number(cat) << ',' << (b["stable"].get<bool>() ? "true" : "false") << ','
         << b["verdict"].get<std::string>() << '\n';
     unstable += !b["stable"].get<bool>();
   }
-  write_file_atomic(out + "/sweep.csv", csv.str());
-  make_plot("plot_sweep.py", {out + "/sweep.csv", out + "/sweep.png", base.name});
-  std::fprintf(stderr, "wrote %s/sweep.csv (%zu points, %d unstable)\n", out.c_str(), points.size(),
-               unstable);
-  return kExitOk;
+  write_file_atomic(staging + "/sweep.csv", csv.str());
+  if (!interrupted())
+    make_plot("plot_sweep.py", {staging + "/sweep.csv", staging + "/sweep.png", base.name});
+  folder.commit();
+  std::fprintf(stderr, "wrote %s/sweep.csv (%zu points, %d unstable)%s\n", out.c_str(),
+               points.size(), unstable, interrupted() ? " (interrupted)" : "");
+  return interrupted() ? kExitInterrupted : kExitOk;
 }
 
 }  // namespace chainmail
@@ -380,7 +431,8 @@ DtSearch largest_stable_dt(const Scene& scene, const Weave& weave, const std::st
     doc["backends"][backend]["dt"] = dt;
     const Scene s = scene_from_json(doc, scene.file);
     const BackendRun run = run_backend(s, weave, backend, options);
-    return run.stable || run.verdict == "watchdog";  // too slow to finish is not unstable
+    // too slow to finish is not unstable (nor is a run a signal stopped)
+    return run.stable || run.verdict == "watchdog" || run.verdict == "interrupted";
   };
   const BackendInfo* info = find_backend(backend);
   double dt_max = 1.0;
@@ -407,23 +459,30 @@ DtSearch largest_stable_dt(const Scene& scene, const Weave& weave, const std::st
 int stability_command(const StabilityCommand& command) {
   RunOptions options;
   options.progress = false;
-  options.keep_frames = false;
   options.other_pair_metrics = true;
   options.max_wall_seconds = command.max_wall_seconds;
   RunOptions search = options;
   search.other_pair_metrics = false;
+  // bad names are bad input before anything runs or is written
+  const std::vector<StabilityCase> cases = stability_cases(command.quick);
+  if (!command.backends.empty())
+    select_backends(scene_from_json(cases[0].scene, "stability"), command.backends);
+  OutputFolder folder = OutputFolder::claim(command.out_dir, "stability", command.force);
 
   std::ostringstream csv, md;
-  csv << "case,backend,dt,verdict,largest_stable_dt,bound,max_stretch,broken_links,"
-         "penetrating_linked,false_links,max_speed,ms_per_step\n";
+  csv << "case,backend,dt,verdict,settled,overstretched,largest_stable_dt,bound,max_stretch,"
+         "broken_links,penetrating_linked,penetration_max_linked,false_links,max_speed,"
+         "ms_per_step\n";
   md << "# Stability suite\n\nEach case runs every backend at its default knobs (the verdict), "
         "then bisects for the largest stable dt (log-space, 3 steps, 6 for the spring study; "
-        "`>=` = stable at the top of the searched range, `<` = unstable at the bottom).\n\n"
-        "| case | backend | dt (s) | verdict | largest stable dt (s) | max_stretch | "
-        "broken_links | penetrating_linked | max_speed (m/s) |\n"
-        "|---|---|---|---|---|---|---|---|---|\n";
+        "`>=` = stable at the top of the searched range, `<` = unstable at the bottom). Depth: "
+        "the deepest interpenetration of linked rings, in wire radii a.\n\n"
+        "| case | backend | dt (s) | verdict | settled | overstretched | largest stable dt (s) | "
+        "max_stretch | broken_links | penetrating_linked | depth max (a) | max_speed (m/s) |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   int unstable = 0;
-  for (const StabilityCase& c : stability_cases(command.quick)) {
+  auto yes_no = [](const std::optional<bool>& v) { return v ? (*v ? "yes" : "no") : "-"; };
+  for (const StabilityCase& c : cases) {
     const Scene scene = scene_from_json(c.scene, "stability/" + c.name);
     const Weave weave = make_weave(scene.weave, scene.ring);
     std::vector<std::string> names =
@@ -432,6 +491,7 @@ int stability_command(const StabilityCommand& command) {
                                                               : command.backends)
             : c.only;
     for (const auto& name : names) {
+      if (interrupted()) break;
       if (!c.only.empty() && !command.backends.empty() &&
           std::find(command.backends.begin(), command.backends.end(), name) ==
               command.backends.end()) {
@@ -446,31 +506,37 @@ int stability_command(const StabilityCommand& command) {
         std::fprintf(stderr, "  %s: %s\n", name.c_str(), e.what());
         continue;
       }
+      if (interrupted()) break;
       const DtSearch dt =
           largest_stable_dt(scene, weave, name, run.dt, run.stable, c.bisection_steps, search);
+      if (interrupted()) break;
       const Metrics& m = run.final_metrics();
       unstable += !run.stable;
       csv << c.name << ',' << name << ',' << csv_number(run.dt) << ',' << run.verdict << ','
+          << yes_no(run.settled) << ',' << yes_no(run.overstretched) << ','
           << csv_number(dt.largest) << ',' << dt.bound << ',' << csv_number(m.max_stretch) << ','
-          << m.broken_links << ',' << m.penetrating_linked << ',' << m.false_links << ','
+          << m.broken_links << ',' << m.penetrating_linked << ','
+          << csv_number(m.penetration_max_linked) << ',' << m.false_links << ','
           << csv_number(m.max_speed) << ',' << csv_number(run.ms_per_step()) << '\n';
-      char line[512];
-      std::snprintf(line, sizeof line,
-                    "| %s | %s | %g | %s | %s %g | %.4g | %lld | %lld | %.3g |\n", c.name.c_str(),
-                    name.c_str(), run.dt, run.verdict.c_str(),
-                    dt.bound == "=" ? "" : dt.bound.c_str(), dt.largest, m.max_stretch,
-                    m.broken_links, m.penetrating_linked, m.max_speed);
-      md << line;
+      md << "| " << c.name << " | " << name << " | " << run.dt << " | " << run.verdict << " | "
+         << yes_no(run.settled) << " | " << yes_no(run.overstretched) << " | "
+         << (dt.bound == "=" ? "" : dt.bound + " ") << table_number(dt.largest, 3) << " | "
+         << table_number(m.max_stretch, 4) << " | " << m.broken_links << " | "
+         << m.penetrating_linked << " | "
+         << table_number(m.penetration_max_linked / scene.ring.wire_radius, 3) << " | "
+         << table_number(m.max_speed, 3) << " |\n";
     }
   }
   md << "\nCases:\n\n";
-  for (const StabilityCase& c : stability_cases(command.quick))
-    md << "- `" << c.name << "`: " << c.description << "\n";
-  write_file_atomic(command.out_dir + "/stability.csv", csv.str());
-  write_file_atomic(command.out_dir + "/stability.md", md.str());
-  std::fprintf(stderr, "wrote %s/stability.{csv,md} (%d unstable at default settings)\n",
-               command.out_dir.c_str(), unstable);
-  return kExitOk;  // instabilities are the suite's findings, not a failure of the suite
+  for (const StabilityCase& c : cases) md << "- `" << c.name << "`: " << c.description << "\n";
+  if (interrupted()) md << "\nInterrupted: the cases above are those that finished.\n";
+  write_file_atomic(folder.staging() + "/stability.csv", csv.str());
+  write_file_atomic(folder.staging() + "/stability.md", md.str());
+  folder.commit();
+  std::fprintf(stderr, "wrote %s/stability.{csv,md} (%d unstable at default settings)%s\n",
+               command.out_dir.c_str(), unstable, interrupted() ? " (interrupted)" : "");
+  // instabilities are the suite's findings, not a failure of the suite
+  return interrupted() ? kExitInterrupted : kExitOk;
 }
 
 }  // namespace chainmail
@@ -479,6 +545,50 @@ int stability_command(const StabilityCommand& command) {
 // the main bench
 
 namespace chainmail {
+
+namespace {
+
+// one scene's rows of the bench's timing and metric tables
+void bench_rows(const SceneRun& run, std::ostringstream& timing, std::ostringstream& timing_csv,
+                std::ostringstream& metrics) {
+  const Scene& scene = run.scene;
+  const double a = scene.ring.wire_radius;
+  double plausible_cost = 0.0;
+  for (const auto& r : run.runs) {
+    if (r.name == "plausible" && r.dt > 0) plausible_cost = r.ms_per_step() / r.dt;
+  }
+  auto yes_no = [](const std::optional<bool>& v) { return v ? (*v ? "yes" : "no") : "-"; };
+  for (const auto& r : run.runs) {
+    const double relative = plausible_cost > 0 ? (r.ms_per_step() / r.dt) / plausible_cost : NAN;
+    timing << "| " << scene.name << " | " << run.weave.size() << " | " << r.name << " | " << r.dt
+           << " | " << table_number(r.ms_per_step(), 4) << " | "
+           << table_number(r.realtime_factor(), 3) << " | "
+           << (std::isnan(relative) ? "-" : table_number(relative, 3) + "x") << " | " << r.verdict
+           << " |\n";
+    timing_csv << scene.name << ',' << run.weave.size() << ',' << r.name << ',' << csv_number(r.dt)
+               << ',' << r.steps << ',' << csv_number(r.ms_per_step()) << ','
+               << csv_number(r.realtime_factor()) << ',' << r.verdict << ',' << std::hex << r.hash
+               << std::dec << '\n';
+    metrics << "| " << scene.name << " | " << r.name << " | " << r.verdict << " | "
+            << yes_no(r.settled) << " | " << yes_no(r.overstretched) << " | ";
+    if (!r.started()) {
+      metrics << "- | - | - | - | - | - | - | - | - | - | - |\n";
+      continue;
+    }
+    const Metrics& m = r.final_metrics();
+    metrics << table_number(m.max_stretch, 4) << " | " << table_number(m.mean_stretch, 4) << " | "
+            << m.penetrating_linked << " | " << table_number(m.penetration_max_linked / a, 3)
+            << " / " << table_number(m.penetration_mean_linked / a, 3) << " | "
+            << m.penetrating_other << " | " << table_number(m.penetration_max_other / a, 3) << " / "
+            << table_number(m.penetration_mean_other / a, 3) << " | " << m.broken_links << " | "
+            << m.false_links << " | " << (m.drape_rms ? table_number(1e3 * *m.drape_rms, 3) : "-")
+            << " | " << (m.drape_coefficient ? table_number(*m.drape_coefficient, 3) : "-") << " | "
+            << (r.catenary_error ? table_number(100.0 * *r.catenary_error, 3) + " %" : "-")
+            << " |\n";
+  }
+}
+
+}  // namespace
 
 int bench_command(const BenchCommand& command) {
   struct BenchScene {
@@ -503,16 +613,19 @@ int bench_command(const BenchCommand& command) {
       {"chain_catenary.json", {}, {"weave.cols=8", "duration=0.05"}},
       {"chain_pile.json", {"weave.cols=40", "duration=1.0"}, {"weave.cols=6", "duration=0.05"}},
   };
-  const std::string out = command.out_dir;
   const auto started = std::chrono::steady_clock::now();
-  // reference runs are cached by scene and knobs, not by build: a bench starts with an empty cache
-  // so that a changed backend is never measured against its old self
-  std::error_code ignored;
-  fs::remove_all(out + "/.cache", ignored);
+  // bad names are bad input before anything runs or is written
+  if (!command.backends.empty())
+    select_backends(load_scene_file(scenes + set[0].file), command.backends);
+  OutputFolder folder = OutputFolder::claim(command.out_dir, "bench", command.force);
+  const std::string out = folder.staging();
+  // reference runs are cached by scene, knobs and build; a bench still starts with a cache of its
+  // own (inside its staging folder, gone when it is done) so it measures every reference afresh
+  const std::string cache = out + "/.cache";
   std::function<void(const SceneRun&, const std::string&)> render;
   if (command.render) {
     try {
-      render = make_render_writer("");
+      render = make_render_writer("", "", /*last_only=*/true);  // the final frame keeps it small
     } catch (const std::exception& e) {
       std::fprintf(stderr, "bench: no frames rendered (%s)\n", e.what());
     }
@@ -527,62 +640,33 @@ int bench_command(const BenchCommand& command) {
             "|---|---|---|---|---|---|---|---|\n";
   timing_csv << "scene,rings,backend,dt,steps,ms_per_step,realtime_factor,verdict,hash\n";
   metrics << "# Final metrics\n\n`drape_rms` against each scene's reference backend (mm); "
-             "`catenary` is the chain's sag error against the analytic catenary.\n\n"
-             "| scene | backend | max_stretch | mean_stretch | penetrating_linked | "
-             "penetrating_other | "
-             "broken_links | false_links | drape_rms (mm) | drape_coefficient | catenary |\n"
-             "|---|---|---|---|---|---|---|---|---|---|---|\n";
-  bool all_stable = true;
+             "`catenary` is the chain's sag error against the analytic catenary; depths are the "
+             "deepest and mean interpenetration of linked (and of other) pairs in wire radii a; "
+             "settled: kinetic energy at the end below "
+          << table_number(100.0 * kSettledEnergyFraction, 3)
+          << " % of the energy released; overstretched: a link stretched above "
+          << table_number(1.0 + kOverstretchTolerance, 4)
+          << " (impossible for real rings).\n\n"
+             "| scene | backend | verdict | settled | overstretched | max_stretch | mean_stretch | "
+             "penetrating_linked | depth max/mean linked (a) | penetrating_other | "
+             "depth max/mean other (a) | broken_links | false_links | drape_rms (mm) | "
+             "drape_coefficient | catenary |\n"
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const BenchScene& b : set) {
+    if (interrupted()) break;
     const Scene scene = load_scene_file(scenes + b.file, command.quick ? b.quick : b.full);
     RunOptions options;
     options.backends =
         command.backends.empty() ? std::vector<std::string>{"all"} : command.backends;
     options.progress = command.progress;
-    options.cache_dir = out + "/.cache";
+    options.cache_dir = cache;
+    options.folder = out + "/" + scene.name;
+    options.keep_stream = static_cast<bool>(render);
     const SceneRun run = run_scene(scene, options);
-    all_stable &= run.all_stable();
     OutputOptions output;
-    if (render) {
-      // the final frame only keeps results/ small
-      output.render = [&](const SceneRun& r, const std::string& folder) {
-        SceneRun last = r;
-        for (auto& br : last.runs) {
-          if (!br.frames.empty()) br.frames = {br.frames.back()};
-        }
-        render(last, folder);
-      };
-    }
-    write_run_folder(run, out + "/" + scene.name, output);
-
-    double plausible_cost = 0.0;
-    for (const auto& r : run.runs) {
-      if (r.name == "plausible") plausible_cost = r.ms_per_step() / r.dt;
-    }
-    for (const auto& r : run.runs) {
-      char line[512];
-      const double relative = plausible_cost > 0 ? (r.ms_per_step() / r.dt) / plausible_cost : NAN;
-      std::snprintf(line, sizeof line, "| %s | %d | %s | %g | %.3f | %.2f | %s | %s |\n",
-                    scene.name.c_str(), run.weave.size(), r.name.c_str(), r.dt, r.ms_per_step(),
-                    r.realtime_factor(),
-                    std::isnan(relative) ? "-" : (table_number(relative, 3) + "x").c_str(),
-                    r.verdict.c_str());
-      timing << line;
-      timing_csv << scene.name << ',' << run.weave.size() << ',' << r.name << ','
-                 << csv_number(r.dt) << ',' << r.steps << ',' << csv_number(r.ms_per_step()) << ','
-                 << csv_number(r.realtime_factor()) << ',' << r.verdict << ',' << std::hex << r.hash
-                 << std::dec << '\n';
-      const Metrics& m = r.final_metrics();
-      std::snprintf(
-          line, sizeof line,
-          "| %s | %s | %.4f | %.4f | %lld | %lld | %lld | %lld | %s | %s | %s |\n",
-          scene.name.c_str(), r.name.c_str(), m.max_stretch, m.mean_stretch, m.penetrating_linked,
-          m.penetrating_other, m.broken_links, m.false_links,
-          m.drape_rms ? table_number(1e3 * *m.drape_rms, 3).c_str() : "-",
-          m.drape_coefficient ? table_number(*m.drape_coefficient, 3).c_str() : "-",
-          r.catenary_error ? (table_number(100.0 * *r.catenary_error, 3) + " %").c_str() : "-");
-      metrics << line;
-    }
+    output.render = render;
+    write_run_folder(run, options.folder, output);
+    bench_rows(run, timing, timing_csv, metrics);
   }
   write_file_atomic(out + "/timing.md", timing.str());
   write_file_atomic(out + "/timing.csv", timing_csv.str());
@@ -596,6 +680,7 @@ int bench_command(const BenchCommand& command) {
        {"weave.rows=8", "weave.cols=8", "duration=0.5", "colliders.0.radius=0.015",
         "support.radius=0.015"}}};
   for (const auto& [file, overrides] : sweeps) {
+    if (interrupted()) break;
     SweepCommand sweep;
     sweep.scene_file = scenes + file;
     sweep.overrides =
@@ -608,23 +693,26 @@ int bench_command(const BenchCommand& command) {
     sweep.jobs = command.jobs;
     sweep.executable = command.executable;
     sweep.progress = command.progress;
-    sweep.cache_dir = out + "/.cache";
+    sweep.cache_dir = cache;
     sweep_command(sweep);
   }
 
   // stiff and extreme cases
-  StabilityCommand stability;
-  stability.backends = command.backends;
-  stability.out_dir = out + "/stability";
-  stability.quick = command.quick;
-  stability.max_wall_seconds = command.quick ? 5.0 : 10.0;
-  stability.progress = command.progress;
-  stability_command(stability);
+  if (!interrupted()) {
+    StabilityCommand stability;
+    stability.backends = command.backends;
+    stability.out_dir = out + "/stability";
+    stability.quick = command.quick;
+    stability.max_wall_seconds = command.quick ? 5.0 : 10.0;
+    stability.progress = command.progress;
+    stability_command(stability);
+  }
 
   std::ostringstream readme;
   readme
       << "# Results of `chainmail bench`\n\n"
-         "Regenerate with `./scripts/bench.sh` (or `chainmail bench --out results`). Every scene "
+         "Regenerate with `./scripts/bench.sh` (or `chainmail bench --out results/bench`). Every "
+         "scene "
          "runs through every backend from the same rest layout; numbers below come from one "
          "run on the machine that produced them (2 cores), so compare ratios, not absolutes.\n\n"
          "- `timing.md` / `timing.csv` — ms per step, real-time factor, cost relative to "
@@ -640,21 +728,23 @@ int bench_command(const BenchCommand& command) {
          "against the reference run) and `sweep.png` (log-log, Pareto front marked).\n"
          "- `stability/` — the stiff and extreme cases: verdict at default settings and the "
          "largest stable dt found by bisection.\n"
-         "- `curtain_30x30/` and `shaders/` come from their own commands, not from `bench`: "
-         "the curtain at the paper's size in every backend, rendered side by side "
-         "(`scripts/gallery.sh`), and one picture per cloth shader (`scripts/shaders.sh`).\n"
-         "- `micro_render.csv` — the renderer's ms per frame at 1280x720 (900 and 10,000 rings, "
-         "with and without level of detail, 4x MSAA and none) from `scripts/render_bench.sh`, not "
-         "from `bench`.\n";
+         "- `stability/` is written last; the gallery (`../curtain_30x30/`), the shader "
+         "pictures (`../shaders/`) and the renderer benchmark (`../micro_render.csv`) come from "
+         "their own scripts, not from `bench`.\n";
   const double minutes =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() / 60.0;
   char took[96];
   std::snprintf(took, sizeof took, "\nThis bench took %.1f minutes.\n", minutes);
   readme << took;
+  if (interrupted()) readme << "\nInterrupted: only what finished is here.\n";
   write_file_atomic(out + "/README.md", readme.str());
-  std::fprintf(stderr, "bench: wrote %s in %.1f min\n", out.c_str(), minutes);
-  (void)all_stable;  // instabilities are findings written to the tables, not a failed bench
-  return kExitOk;
+  std::error_code ignored;
+  fs::remove_all(cache, ignored);
+  folder.commit();
+  std::fprintf(stderr, "bench: wrote %s in %.1f min%s\n", command.out_dir.c_str(), minutes,
+               interrupted() ? " (interrupted)" : "");
+  // instabilities are findings written to the tables, not a failed bench
+  return interrupted() ? kExitInterrupted : kExitOk;
 }
 
 }  // namespace chainmail

@@ -20,17 +20,19 @@ struct SweepCommand {
   std::vector<std::string> backends;  // empty: the scene's own list
   std::vector<std::string> overrides;
   std::string out_dir;  // default results/<scene>/sweep
+  bool force = false;   // replace a foreign empty folder at out_dir
   int jobs = 1;
   bool print_jobs = false;  // print one `chainmail run` command line per point and stop
   std::string executable;   // the chainmail binary that runs each point
   bool progress = true;
-  std::string cache_dir = "results/.cache";
+  std::string cache_dir;  // "" = the default cache folder, "none" = no cache
 };
 int sweep_command(const SweepCommand& command);
 
 struct StabilityCommand {
   std::vector<std::string> backends;  // empty: every backend
   std::string out_dir = "results/stability";
+  bool force = false;
   bool quick = false;              // tiny sizes, for tests
   double max_wall_seconds = 30.0;  // watchdog per run
   bool progress = true;
@@ -38,7 +40,8 @@ struct StabilityCommand {
 int stability_command(const StabilityCommand& command);
 
 struct BenchCommand {
-  std::string out_dir = "results";
+  std::string out_dir = "results/bench";
+  bool force = false;
   bool quick = false;  // reduced sizes and durations (test mode)
   std::vector<std::string> backends;
   std::string executable;

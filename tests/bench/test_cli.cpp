@@ -35,6 +35,20 @@ Outcome chainmail(const std::string& arguments, const std::string& environment =
   return outcome;
 }
 
+// a shell line as given (for background jobs and signals)
+Outcome chainmail_shell(const std::string& line) {
+  Outcome outcome;
+  FILE* pipe = ::popen(("bash -c '" + line + "' 2>&1").c_str(), "r");
+  if (!pipe) return outcome;
+  char buffer[4096];
+  for (size_t got; (got = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) {
+    outcome.output.append(buffer, got);
+  }
+  const int raw = ::pclose(pipe);
+  outcome.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  return outcome;
+}
+
 int lines(const std::string& text) {
   int count = 0;
   for (char ch : text) count += ch == '\n';
@@ -151,6 +165,90 @@ TEST_F(Cli, RenderWritesOnePanelImagePerSample) {
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.output.find("unobtainium"), std::string::npos) << bad.output;
   EXPECT_FALSE(fs::exists(dir_ / "bad"));
+}
+
+TEST_F(Cli, LongRunStaysWithinAMemoryLimitTheOldRunnerExceeded) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer reserves terabytes of address space: no limit applies";
+#else
+  // 4 rings for 400 s sampled every step: 100,001 samples. Keeping every sample's frame (the old
+  // runner) needed about 100 MB; streamed, the run's memory does not depend on its duration
+  const std::string file = scene(
+      {{"weave", {{"rows", 2}, {"cols", 2}}}, {"duration", 400.0}, {"sample_interval", 0.004}});
+  const Outcome run =
+      chainmail("run " + file + " --quiet --cache none --out " + out(), "ulimit -v 65536;");
+  ASSERT_EQ(run.status, 0) << run.output;
+  std::ifstream csv(fs::path(out()) / "metrics.csv");
+  int rows = 0;
+  for (std::string line; std::getline(csv, line);) ++rows;
+  EXPECT_EQ(rows, 1 + 100001);
+#endif
+}
+
+TEST_F(Cli, InterruptWritesWhatFinishedAndExits130) {
+  // a run far too long to finish: a signal stops it, and what it has is written
+  const std::string file =
+      scene({{"weave", {{"rows", 6}, {"cols", 6}}},
+             {"duration", 600.0},
+             {"backends", {{"plausible", json::object()}, {"massspring", json::object()}}}});
+  for (const char* signal : {"INT", "TERM"}) {
+    fs::remove_all(out());
+    const std::string line = std::string(CHAINMAIL_BINARY_DIR "/bench/chainmail run ") + file +
+                             " --quiet --cache none --reference none --out " + out() +
+                             " & pid=$!; sleep 2; kill -" + signal + " $pid; wait $pid";
+    const Outcome interrupted = chainmail_shell(line);
+    EXPECT_EQ(interrupted.status, 130) << interrupted.output;
+    std::ifstream in(fs::path(out()) / "summary.json");
+    const json summary = json::parse(in, nullptr, false);
+    ASSERT_FALSE(summary.is_discarded()) << interrupted.output;
+    EXPECT_TRUE(summary["interrupted"].get<bool>());
+    EXPECT_EQ(summary["backends"]["plausible"]["verdict"], "interrupted");
+    EXPECT_EQ(summary["backends"]["massspring"]["verdict"], "interrupted");
+    for (const auto& e : fs::directory_iterator(dir_))
+      EXPECT_EQ(e.path().filename().string().find(".partial-"), std::string::npos) << e.path();
+  }
+}
+
+TEST_F(Cli, DefaultOutputIsTheScenesRunFolderAndNeverTheBenchs) {
+  const std::string file = scene();
+  const Outcome run =
+      chainmail("run " + file + " --quiet --cache none", "cd " + dir_.string() + " &&");
+  ASSERT_EQ(run.status, 0) << run.output;
+  EXPECT_TRUE(fs::exists(dir_ / "results" / "cli" / "run" / "summary.json"));
+  EXPECT_TRUE(fs::exists(dir_ / "results" / "cli" / "run" / ".chainmail-manifest.json"));
+  // a user's file in the run folder stops the next run from replacing it
+  std::ofstream(dir_ / "results" / "cli" / "run" / "notes.md") << "mine";
+  const Outcome again =
+      chainmail("run " + file + " --quiet --cache none", "cd " + dir_.string() + " &&");
+  EXPECT_EQ(again.status, 2) << again.output;
+  EXPECT_NE(again.output.find("notes.md"), std::string::npos) << again.output;
+  EXPECT_TRUE(fs::exists(dir_ / "results" / "cli" / "run" / "notes.md"));
+}
+
+TEST_F(Cli, ReferenceRunIsAnnouncedAndCanBeLeftOut) {
+  // the reference at a finer dt than the run's own: a run of its own, before the others
+  const std::string file = scene({{"reference_dt", 0.002}});
+  const Outcome announced = chainmail("run " + file + " --out " + out() + cache());
+  ASSERT_EQ(announced.status, 0) << announced.output;
+  EXPECT_NE(announced.output.find("reference run: plausible at dt 0.002 s"), std::string::npos)
+      << announced.output;
+  const Outcome none =
+      chainmail("run " + file + " --reference none --out " + out() + "_none" + cache());
+  ASSERT_EQ(none.status, 0) << none.output;
+  EXPECT_EQ(none.output.find("reference run"), std::string::npos) << none.output;
+  std::ifstream in(fs::path(out() + "_none") / "summary.json");
+  const json summary = json::parse(in);
+  EXPECT_FALSE(summary["backends"]["plausible"]["final"].contains("drape_rms"));
+}
+
+TEST_F(Cli, UnwritableCacheWarnsOnceAndTheRunGoesOn) {
+  const Outcome run = chainmail("run " + scene({{"reference_dt", 0.002}}) +
+                                " --quiet --cache /proc/chainmail-cache --out " + out());
+  ASSERT_EQ(run.status, 0) << run.output;
+  EXPECT_NE(run.output.find("warning: reference cache"), std::string::npos) << run.output;
+  std::ifstream in(fs::path(out()) / "summary.json");
+  const json summary = json::parse(in);
+  EXPECT_TRUE(summary["backends"]["plausible"]["final"].contains("drape_rms"));
 }
 
 }  // namespace

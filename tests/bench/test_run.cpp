@@ -3,7 +3,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include <limits>
+
 #include "bench/harness/commands.hpp"
+#include "bench/harness/frame_stream.hpp"
 #include "bench/harness/output.hpp"
 #include "bench/harness/run.hpp"
 
@@ -99,14 +102,49 @@ TEST(Run, EveryBackendStartsFreeRingsAtTheSceneInitialVelocity) {
   EXPECT_GE(checked, 2);
 }
 
-TEST(Run, DrapeRmsOfARunAgainstItselfIsZero) {
-  const SceneRun run = run_scene(small_curtain(), quiet());
-  ASSERT_EQ(run.runs.size(), 1u);
-  for (const Sample& s : run.runs[0].samples) {
-    ASSERT_TRUE(s.metrics.drape_rms.has_value());
-    EXPECT_EQ(*s.metrics.drape_rms, 0.0);
+TEST(Run, DrapeRmsAgainstItsOwnCachedRunIsZero) {
+  // the first run fills the cache with the reference frames, the second reads them back from the
+  // file (not from memory) and measures itself against them
+  const fs::path dir = fresh_dir("drape_cache");
+  RunOptions options = quiet();
+  options.cache_dir = (dir / "cache").string();
+  const SceneRun first = run_scene(small_curtain(), options);
+  const std::string cached = reference_cache_path(small_curtain(), "plausible", options.cache_dir);
+  ASSERT_TRUE(fs::exists(cached));
+  std::vector<double> drape;
+  const Scene scene = small_curtain();
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  auto reader = FrameReader::open(cached, weave.size());
+  ASSERT_TRUE(reader.has_value());
+  EXPECT_EQ(reader->count(), 5u);  // 0.2 s sampled every 0.05 s
+  RingFrame last;
+  ASSERT_TRUE(reader->read(reader->count() - 1, last));
+  EXPECT_EQ(drape_rms(first.runs[0].final_frame, last), 0.0);
+  const SceneRun second = run_scene(small_curtain(), options);
+  ASSERT_TRUE(second.runs[0].final_metrics().drape_rms.has_value());
+  EXPECT_EQ(*second.runs[0].final_metrics().drape_rms, 0.0);
+  fs::remove_all(dir);
+}
+
+TEST(Run, CorruptCacheFileIsAMissNeverAnAllocation) {
+  const fs::path dir = fresh_dir("corrupt_cache");
+  RunOptions options = quiet();
+  options.cache_dir = (dir / "cache").string();
+  const std::string path = reference_cache_path(small_curtain(), "plausible", options.cache_dir);
+  fs::create_directories(dir / "cache");
+  // a header that claims 2^40 rings, then a few bytes: the old format's reader allocated that
+  {
+    std::ofstream out(path, std::ios::binary);
+    const long long header[3] = {1LL << 40, 7LL << 40, 0};
+    out.write("CMFRM001", 8);
+    out.write(reinterpret_cast<const char*>(header), sizeof header);
+    out << "short";
   }
-  EXPECT_EQ(drape_rms(run.runs[0].final_frame, run.runs[0].final_frame), 0.0);
+  EXPECT_FALSE(FrameReader::open(path, 36).has_value());
+  const SceneRun run = run_scene(small_curtain(), options);
+  ASSERT_TRUE(run.runs[0].final_metrics().drape_rms.has_value());
+  EXPECT_TRUE(FrameReader::open(path, 36).has_value());  // replaced by a good one
+  fs::remove_all(dir);
 }
 
 TEST(Run, SameSceneTwiceSameHash) {
@@ -133,37 +171,93 @@ TEST(Run, InjectedInstabilityIsReportedNotCrashed) {
 
 TEST(Run, ContractFilesWritten) {
   const fs::path dir = fresh_dir("contract");
-  SceneRun run = run_scene(small_curtain(), quiet());
-  OutputOptions output;
-  output.frames = true;
-  write_run_folder(run, dir.string(), output);
+  RunOptions options = quiet();
+  options.folder = dir.string();
+  options.frame_csv = true;
+  SceneRun run = run_scene(small_curtain(), options);
+  write_run_folder(run, dir.string(), OutputOptions{});
 
   std::ifstream summary_file(dir / "summary.json");
   const json summary = json::parse(summary_file);
   const json& entry = summary["backends"]["plausible"];
   for (const char* key : {"dt", "steps", "wall_s", "ms_per_step", "realtime_factor", "stable",
-                          "verdict", "hash", "final"}) {
+                          "verdict", "hash", "final", "settled", "overstretched"}) {
     EXPECT_TRUE(entry.contains(key)) << key;
   }
   EXPECT_TRUE(summary["ring"].contains("wire_radius"));
-  EXPECT_TRUE(entry["final"].contains("max_stretch"));
+  EXPECT_TRUE(summary["build"].contains("version"));
+  for (const char* key : {"max_stretch", "penetration_max_linked", "penetration_mean_other"})
+    EXPECT_TRUE(entry["final"].contains(key)) << key;
   EXPECT_FALSE(entry["final"].contains("drape_coefficient"));  // no support: absent, not zero
 
   std::ifstream csv(dir / "metrics.csv");
-  std::string header;
+  std::string header, row;
   std::getline(csv, header);
   EXPECT_EQ(header.rfind("backend,t,max_stretch,", 0), 0u) << header;
   EXPECT_NE(header.find(",step_wall_ms"), std::string::npos);
+  int rows = 0;
+  while (std::getline(csv, row)) rows += row.rfind("plausible,", 0) == 0;
+  EXPECT_EQ(rows, 5);  // every sample, streamed while it ran
 
   std::ifstream frame(dir / "frames/plausible/00000.csv");
   std::getline(frame, header);
   EXPECT_EQ(header, "ring,i,j,x,y,z,qw,qx,qy,qz");
+  EXPECT_TRUE(fs::exists(dir / "frames/plausible/00004.csv"));
   EXPECT_TRUE(fs::exists(dir / "table.md"));
-  // nothing left behind from the staging folder
-  for (const auto& e : fs::directory_iterator(dir.parent_path())) {
-    EXPECT_EQ(e.path().filename().string().find("chainmail_test_contract.partial"),
-              std::string::npos);
-  }
+  EXPECT_FALSE(fs::exists(dir / ".streams"));  // working files are gone
+  fs::remove_all(dir);
+}
+
+TEST(Run, NonFiniteValuesNeverReachAFile) {
+  Sample sample;
+  sample.t = 0.5;
+  sample.metrics.max_stretch = std::numeric_limits<double>::quiet_NaN();
+  sample.metrics.kinetic_energy = std::numeric_limits<double>::infinity();
+  sample.metrics.max_speed = -std::numeric_limits<double>::infinity();
+  const std::string row = metrics_row("plausible", sample);
+  EXPECT_EQ(row.find("nan"), std::string::npos) << row;
+  EXPECT_EQ(row.find("inf"), std::string::npos) << row;
+  EXPECT_TRUE(json_number(std::numeric_limits<double>::infinity()).is_null());
+  EXPECT_TRUE(json_number(std::nan("")).is_null());
+  EXPECT_EQ(csv_number(-std::numeric_limits<double>::infinity()), "");
+}
+
+TEST(Run, SettledAgainstTheEnergyReleased) {
+  // physics, not the code's idea of it: a ring in free fall has turned all the potential energy
+  // it lost into kinetic energy (not settled); a ring lying on the ground keeps none (settled)
+  json doc = small_curtain(0.3).resolved;
+  doc["weave"] = {{"type", "4in1"}, {"rows", 1}, {"cols", 1}, {"plane", "xz"}};
+  doc["pins"] = json::array();
+  const SceneRun falling = run_scene(scene_from_json(doc, "test"), quiet());
+  ASSERT_TRUE(falling.runs[0].settled.has_value());
+  EXPECT_FALSE(*falling.runs[0].settled);
+  doc["weave"]["center"] = {0, 0.0008, 0};  // resting on the plane y = 0 (wire radius 0.8 mm)
+  doc["colliders"] = json::array({{{"type", "plane"}, {"point", {0, 0, 0}}}});
+  doc["duration"] = 1.0;
+  const SceneRun resting = run_scene(scene_from_json(doc, "test"), quiet());
+  ASSERT_TRUE(resting.runs[0].settled.has_value());
+  EXPECT_TRUE(*resting.runs[0].settled);
+}
+
+TEST(Run, OverstretchedIsFlaggedApartFromStability) {
+  // a sheet hitting a sphere at 10 m/s: the paper's model lets links stretch past the inner
+  // diameter (impossible for real rings) without going unstable
+  json doc = small_curtain(0.2).resolved;
+  doc["weave"] = {
+      {"type", "4in1"}, {"rows", 6}, {"cols", 6}, {"plane", "xz"}, {"center", {0, 0.05, 0}}};
+  doc["pins"] = json::array();
+  doc["initial_velocity"] = {0, -10, 0};
+  doc["colliders"] = json::array({{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 0.02}}});
+  doc["stability"] = {{"max_speed", 40.0}};
+  const SceneRun impact = run_scene(scene_from_json(doc, "test"), quiet());
+  const BackendRun& run = impact.runs[0];
+  ASSERT_TRUE(run.overstretched.has_value());
+  EXPECT_EQ(*run.overstretched, run.peak_stretch > 1.0 + kOverstretchTolerance);
+  EXPECT_GE(run.peak_stretch, run.final_metrics().max_stretch);
+  // a curtain at rest layout is not
+  const SceneRun curtain = run_scene(small_curtain(0.05), quiet());
+  ASSERT_TRUE(curtain.runs[0].overstretched.has_value());
+  EXPECT_FALSE(*curtain.runs[0].overstretched);
 }
 
 TEST(Run, BadInputExitsTwoAndWritesNothing) {

@@ -124,7 +124,7 @@ TEST(Sweep, OneRowPerPointAndThePlot) {
   sweep.jobs = 2;
   sweep.executable = chainmail_binary();
   sweep.progress = false;
-  sweep.cache_dir = (out / "cache").string();
+  sweep.cache_dir = (out.string() + "_cache");  // beside the output: inside it is not ours
   ASSERT_EQ(sweep_command(sweep), kExitOk);
   EXPECT_EQ(count_lines(out / "sweep.csv"), 1 + 4);  // header + 2 x 2 points
   std::ifstream csv(out / "sweep.csv");
@@ -137,6 +137,7 @@ TEST(Sweep, OneRowPerPointAndThePlot) {
     EXPECT_GT(fs::file_size(out / "sweep.png"), 1000u);
   }
   fs::remove_all(out);
+  fs::remove_all(out.string() + "_cache");
 }
 
 TEST(Sweep, PrintJobsListsEveryPoint) {

@@ -2,16 +2,34 @@
 
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <random>
 
 #include "core/geometry.hpp"
 #include "core/ring.hpp"
+#include "core/weave.hpp"
 
 namespace chainmail {
 namespace {
 
 Circle circle(Vec3 centre, Vec3 normal, double radius) {
   return Circle{centre, normal.normalized(), radius};
+}
+
+// a rigid motion (rotation, then translation) with a uniformly random rotation
+struct Rigid {
+  Quat rotation;
+  Vec3 translation;
+  Circle operator()(const Circle& c) const {
+    return Circle{rotation * c.centre + translation, (rotation * c.normal).normalized(), c.radius};
+  }
+};
+
+Rigid random_rigid(std::mt19937& rng, double reach) {
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::uniform_real_distribution<double> u(-reach, reach);
+  const Quat q = Quat(g(rng), g(rng), g(rng), g(rng)).normalized();
+  return Rigid{q, Vec3(u(rng), u(rng), u(rng))};
 }
 
 // brute force: dense sampling of both circles
@@ -96,6 +114,41 @@ TEST(Interpenetration, TouchingIsNotPenetrating) {
   EXPECT_TRUE(tori_interpenetrate(p, r, a, 1e-3 * a));
 }
 
+TEST(Interpenetration, CloserThanGivesExactDistances) {
+  // configurations whose centre-circle distance is known in closed form, at random placements:
+  // - parallel planes at height h, projections crossing (lateral offset e < 2c): the circles pass
+  //   right above each other where the projections cross, so the distance is h (e = 0: coaxial)
+  // - coplanar, centres D > 2c apart: closest points on the line of centres, D - 2c apart
+  // - the same centre, any tilt: the circles share the two points on the planes' common line: 0
+  const double c = 0.0048, a = 0.0008;
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 200; ++trial) {
+    const Rigid move = random_rigid(rng, 1.0);
+    const Circle ring = circle(Vec3::Zero(), Vec3::UnitY(), c);
+    const double h = 2.0 * a * u(rng), e = 1.9 * c * u(rng), gap = 2.0 * a * u(rng);
+    const double tilt = std::numbers::pi * u(rng);
+    const struct {
+      Circle other;
+      double distance;
+    } cases[] = {{circle(Vec3(e, h, 0), Vec3::UnitY(), c), h},
+                 {circle(Vec3(0, 0, 2 * c + gap), Vec3::UnitY(), c), gap},
+                 {circle(Vec3::Zero(), Vec3(0, std::cos(tilt), std::sin(tilt)), c), 0.0}};
+    for (const auto& [other, distance] : cases) {
+      const std::optional<double> below = circles_closer_than(move(ring), move(other), 2.0 * a);
+      ASSERT_TRUE(below.has_value()) << "exact distance " << distance;
+      EXPECT_NEAR(*below, distance, 1e-9 * c);
+      // above the limit: nothing, and the same answer as the torus test
+      EXPECT_FALSE(circles_closer_than(move(ring), move(other), distance - 1e-6 * c));
+      EXPECT_FALSE(tori_interpenetrate(move(ring), move(other), a, 2.0 * a - distance + 1e-6 * c));
+      EXPECT_TRUE(tori_interpenetrate(move(ring), move(other), a, 2.0 * a - distance - 1e-6 * c));
+    }
+  }
+  // far apart: nothing
+  EXPECT_FALSE(circles_closer_than(circle(Vec3::Zero(), Vec3::UnitY(), c),
+                                   circle(Vec3(1, 0, 0), Vec3::UnitY(), c), 2.0 * a));
+}
+
 TEST(Linking, HandCases) {
   const Circle a = circle(Vec3::Zero(), Vec3::UnitY(), 1.0);
   // perpendicular through the hole: linked
@@ -112,6 +165,124 @@ TEST(Linking, HandCases) {
   const Circle t = circle(Vec3(0.9, 0.1, 0.05), Vec3(0.1, 0.2, 1.0), 1.0);
   EXPECT_EQ(circles_linked(a, t), circles_linked(t, a));
   EXPECT_TRUE(circles_linked(a, t));
+}
+
+// the degenerate cases below are placed at random rigid positions: round-off then puts tiny
+// heights of either sign on what is exactly a plane, and the answer must not depend on them
+constexpr int kPlacements = 2000;
+
+TEST(Linking, CoplanarPairsAreNeverLinkedAnywhere) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (const double c : {1.0, 0.0048}) {
+    int linked = 0, crossings = 0;
+    for (int trial = 0; trial < kPlacements; ++trial) {
+      // b in a's plane, overlapping it (centre distance below the sum of radii)
+      const double rb = c * (0.3 + 1.4 * u(rng)), angle = 2.0 * std::numbers::pi * u(rng);
+      const double d = (c + rb) * u(rng);
+      const Circle a = circle(Vec3::Zero(), Vec3::UnitY(), c);
+      const Circle b = circle(d * Vec3(std::cos(angle), 0.0, std::sin(angle)), Vec3::UnitY(), rb);
+      const Rigid move = random_rigid(rng, 1000.0 * c);
+      Circle ma = move(a), mb = move(b);
+      // and a 1e-15 m jitter on top
+      mb.centre += 1e-15 * Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+      linked += circles_linked(ma, mb) + circles_linked(mb, ma);
+      crossings += disk_crossings(ma, mb) + disk_crossings(mb, ma);
+    }
+    EXPECT_EQ(linked, 0) << "c = " << c;
+    EXPECT_EQ(crossings, 0) << "c = " << c;
+  }
+}
+
+TEST(Linking, RimTouchIsOutsideTheOpenDisk) {
+  // b perpendicular to a, its plane through a's centre, meeting a's plane at x = d - rb and
+  // x = d + rb; one of them exactly on a's rim (x = 1)
+  std::mt19937 rng(12);
+  const Circle a = circle(Vec3::Zero(), Vec3::UnitY(), 1.0);
+  int wrong = 0;
+  for (int trial = 0; trial < kPlacements; ++trial) {
+    const Rigid move = random_rigid(rng, 100.0);
+    // rims touch from outside: crossings at the rim and beyond it: none inside
+    const Circle outside = circle(Vec3(1.3, 0, 0), Vec3::UnitZ(), 0.3);
+    // rims touch from inside: crossings at the rim and inside: exactly one inside
+    const Circle inside = circle(Vec3(0.7, 0, 0), Vec3::UnitZ(), 0.3);
+    wrong += disk_crossings(move(a), move(outside)) != 0;
+    wrong += disk_crossings(move(a), move(inside)) != 1;
+  }
+  EXPECT_EQ(wrong, 0);
+}
+
+TEST(Linking, TangentTouchIsNoCrossing) {
+  // b in the y/z plane, its lowest (or highest) point resting on a's plane, inside the disk, on
+  // the rim or outside: it touches without crossing
+  std::mt19937 rng(13);
+  const Circle a = circle(Vec3::Zero(), Vec3::UnitY(), 1.0);
+  int wrong = 0;
+  for (int trial = 0; trial < kPlacements; ++trial) {
+    const Rigid move = random_rigid(rng, 100.0);
+    for (const double x : {0.0, 0.4, 1.0, 1.5}) {
+      for (const double side : {1.0, -1.0}) {
+        const Circle b = circle(Vec3(x, side * 0.5, 0), Vec3::UnitX(), 0.5);
+        wrong += disk_crossings(move(a), move(b)) != 0;
+      }
+    }
+  }
+  EXPECT_EQ(wrong, 0);
+}
+
+TEST(Linking, NearCoplanarTiltsMatchTheExactConstruction) {
+  // b centred at (d, 0, 0) on a's plane, tilted out of it by theta about the x axis: its plane
+  // contains the x axis, so it crosses a's plane exactly at x = d - rb and x = d + rb, and it is
+  // linked with a iff exactly one of those lies inside a's unit disk (the Hopf link at theta =
+  // pi/2)
+  std::mt19937 rng(14);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const Circle a = circle(Vec3::Zero(), Vec3::UnitY(), 1.0);
+  int wrong = 0, flat_linked = 0, linked = 0, cases = 0;
+  for (int trial = 0; trial < kPlacements; ++trial) {
+    const double d = 2.5 * u(rng), rb = 0.2 + 1.3 * u(rng);
+    const double near = std::abs(d - rb), far = d + rb;
+    if (std::abs(near - 1.0) < 1e-6 || std::abs(far - 1.0) < 1e-6) continue;  // on the rim
+    const bool expected = (near < 1.0) != (far < 1.0);
+    const Rigid move = random_rigid(rng, 10.0);
+    for (const double theta : {0.5, 1e-3, 1e-5, -1e-6, 1e-7}) {
+      const Circle b = circle(Vec3(d, 0, 0), Vec3(0, std::cos(theta), std::sin(theta)), rb);
+      wrong += circles_linked(move(a), move(b)) != expected;
+      wrong += circles_linked(move(b), move(a)) != expected;  // linking is symmetric
+      linked += expected, ++cases;
+    }
+    // tilts far below the band (1e-9 of the radii) are coplanar: never linked
+    for (const double theta : {1e-13, -1e-14}) {
+      const Circle b = circle(Vec3(d, 0, 0), Vec3(0, std::cos(theta), std::sin(theta)), rb);
+      flat_linked += circles_linked(move(a), move(b));
+    }
+  }
+  EXPECT_EQ(wrong, 0);
+  EXPECT_EQ(flat_linked, 0);
+  EXPECT_GT(linked, cases / 5);  // both answers are exercised
+  EXPECT_LT(linked, cases * 4 / 5);
+}
+
+TEST(Linking, WeaveNeighboursStayLinkedAnywhere) {
+  const RingGeometry ring;
+  WeaveSpec spec;
+  spec.rows = spec.cols = 6;
+  const Weave weave = make_weave(spec, ring);
+  std::mt19937 rng(15);
+  int broken = 0;
+  for (int trial = 0; trial < 50; ++trial) {
+    const Rigid move = random_rigid(rng, 10.0);
+    auto ring_at = [&](int i) {
+      const Quat q(weave.rest_orientation(0, i), weave.rest_orientation(1, i),
+                   weave.rest_orientation(2, i), weave.rest_orientation(3, i));
+      return move(ring_circle(weave.rest_position.col(i), q, ring.centre_radius));
+    };
+    for (const RingPair& link : weave.links) {
+      broken += !circles_linked(ring_at(link.a), ring_at(link.b));
+      broken += !circles_linked(ring_at(link.b), ring_at(link.a));
+    }
+  }
+  EXPECT_EQ(broken, 0);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <random>
 
 #include "core/metrics.hpp"
 #include "core/scene.hpp"
@@ -87,6 +88,10 @@ TEST(Metrics, NonFiniteFramesAreCountedNotMeasured) {
   const Metrics m = measure(s.frame, s.weave, s.scene);
   EXPECT_EQ(m.non_finite, 2);
   EXPECT_TRUE(std::isnan(m.max_stretch));
+  EXPECT_TRUE(std::isnan(m.penetration_max_linked));
+  EXPECT_TRUE(std::isnan(m.penetration_mean_linked));
+  EXPECT_TRUE(std::isnan(m.penetration_max_other));
+  EXPECT_TRUE(std::isnan(m.penetration_mean_other));
 }
 
 TEST(Metrics, DrapeCoefficientIsOneFlatAndFallsAsTheSheetHangs) {
@@ -125,6 +130,86 @@ TEST(Metrics, ClothGridStretchIsAgainstRestLengthAndHasNoRingCounts) {
   EXPECT_NEAR(m.max_stretch, 1.1, 1e-12);
   EXPECT_NEAR(m.mean_stretch, 1.1, 1e-12);
   EXPECT_EQ(m.broken_links + m.false_links + m.penetrating_linked + m.penetrating_other, 0);
+}
+
+TEST(Metrics, CoplanarRingsAreNeverLinked) {
+  // every ring with one orientation, as the mass-spring baseline emits a flat sheet: neighbours
+  // are coplanar, so every link is broken and nothing is falsely linked. Round-off must not decide:
+  // the same holds with the sheet turned anywhere, each ring's orientation off by a few ulps (the
+  // baseline computes each from its own neighbour vectors) and positions off by ~1e-12 m
+  Layout s(sheet("4in1", 8, 8));
+  for (int i = 0; i < s.frame.size(); ++i) s.frame.set_quat(i, Quat::Identity());
+  const Metrics flat = measure(s.frame, s.weave, s.scene);
+  EXPECT_EQ(flat.broken_links, static_cast<long long>(s.weave.links.size()));
+  EXPECT_EQ(flat.false_links, 0);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 40; ++trial) {
+    const Quat turn = Quat(g(rng), g(rng), g(rng), g(rng)).normalized();
+    const Vec3 shift = trial % 4 < 2 ? Vec3::Zero() : Vec3(g(rng), g(rng), g(rng));
+    const double noise = trial % 2 ? 1e-12 : 0.0;  // m
+    RingFrame moved = s.frame;
+    for (int i = 0; i < moved.size(); ++i) {
+      moved.position.col(i) =
+          turn * s.frame.position.col(i) + shift + noise * Vec3(u(rng), u(rng), u(rng));
+      Quat q = turn;
+      q.coeffs() += 4e-16 * Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng));
+      moved.set_quat(i, q.normalized());
+    }
+    const Metrics m = measure(moved, s.weave, s.scene);
+    EXPECT_EQ(m.broken_links, flat.broken_links) << "trial " << trial;
+    EXPECT_EQ(m.false_links, 0) << "trial " << trial;
+    EXPECT_EQ(m.penetrating_linked, flat.penetrating_linked) << "trial " << trial;
+    EXPECT_EQ(m.penetrating_other, flat.penetrating_other) << "trial " << trial;
+    // depths move with the noise (the circles no longer meet exactly), by about its size
+    EXPECT_NEAR(m.penetration_max_linked, flat.penetration_max_linked, 1e-11);
+    EXPECT_NEAR(m.penetration_mean_other, flat.penetration_mean_other, 1e-11);
+  }
+}
+
+TEST(Metrics, PenetrationDepthsOfKnownPairs) {
+  // a chain 0-1-...-9 placed by hand in clusters 5 cm apart, all rings flat (normal +y), so every
+  // depth is known in closed form (depth = 2a - centre-circle distance):
+  // - rings one above the other (coaxial, height h): distance h
+  // - rings side by side in one plane, centres 2c + g apart: distance g
+  Layout s(sheet("chain", 1, 10));
+  const double a = s.scene.ring.wire_radius, c = s.scene.ring.centre_radius;
+  for (int i = 0; i < s.frame.size(); ++i) s.frame.set_quat(i, Quat::Identity());
+  auto put = [&](int ring, int cluster, Vec3 offset) {
+    s.frame.position.col(ring) = Vec3(0.05 * cluster, 0.0, 0.0) + offset;
+  };
+  put(0, 0, Vec3::Zero()), put(1, 0, Vec3(0, 0.5 * a, 0));          // linked, depth 1.5a
+  put(2, 1, Vec3::Zero()), put(3, 1, Vec3(0, 1.2 * a, 0));          // linked, depth 0.8a
+  put(4, 2, Vec3::Zero()), put(6, 2, Vec3(0, 1.0 * a, 0));          // other, depth 1.0a
+  put(5, 3, Vec3::Zero()), put(7, 3, Vec3(2 * c + 0.3 * a, 0, 0));  // other, depth 1.7a
+  put(8, 4, Vec3::Zero()), put(9, 4, Vec3(0, 2.5 * a, 0));          // linked, clear (distance 2.5a)
+  const Metrics m = measure(s.frame, s.weave, s.scene);
+  const double tol = 1e-9 * a;
+  EXPECT_EQ(m.penetrating_linked, 2);
+  EXPECT_NEAR(m.penetration_max_linked, 1.5 * a, tol);
+  EXPECT_NEAR(m.penetration_mean_linked, 0.5 * (1.5 + 0.8) * a, tol);
+  EXPECT_EQ(m.penetrating_other, 2);
+  EXPECT_NEAR(m.penetration_max_other, 1.7 * a, tol);
+  EXPECT_NEAR(m.penetration_mean_other, 0.5 * (1.0 + 1.7) * a, tol);
+  // the names, in CSV order, and their values
+  const std::vector<std::string>& names = metric_names();
+  const auto at = std::find(names.begin(), names.end(), "penetrating_other");
+  ASSERT_NE(at, names.end());
+  const std::vector<std::string> depth_names(at + 1, at + 5);
+  EXPECT_EQ(depth_names,
+            (std::vector<std::string>{"penetration_max_linked", "penetration_mean_linked",
+                                      "penetration_max_other", "penetration_mean_other"}));
+  EXPECT_EQ(metric_value(m, "penetration_max_linked"), m.penetration_max_linked);
+  EXPECT_EQ(metric_value(m, "penetration_mean_linked"), m.penetration_mean_linked);
+  EXPECT_EQ(metric_value(m, "penetration_max_other"), m.penetration_max_other);
+  EXPECT_EQ(metric_value(m, "penetration_mean_other"), m.penetration_mean_other);
+  // no interpenetration at rest: every depth 0
+  Layout rest(sheet("4in1", 4, 4));
+  const Metrics clear = measure(rest.frame, rest.weave, rest.scene);
+  EXPECT_EQ(clear.penetration_max_linked + clear.penetration_mean_linked +
+                clear.penetration_max_other + clear.penetration_mean_other,
+            0.0);
 }
 
 }  // namespace

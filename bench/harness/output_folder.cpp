@@ -1,0 +1,224 @@
+#include "bench/harness/output_folder.hpp"
+
+#include <limits.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/harness/version.hpp"
+#include "core/scene.hpp"
+
+namespace chainmail {
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+// room left in a name for the staging suffix (".NAME.partial-PID")
+constexpr std::size_t kLongestName = NAME_MAX - 32;
+
+const char* kind_of(mode_t mode) {
+  if (S_ISREG(mode)) return "a regular file";
+  if (S_ISLNK(mode)) return "a symbolic link";
+  if (S_ISCHR(mode) || S_ISBLK(mode)) return "a device";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a folder";
+}
+
+// the files a folder's manifest lists, and the command that made it; false without a manifest
+bool read_manifest(const fs::path& folder, std::string& command, std::set<std::string>& files) {
+  struct stat info {};
+  const fs::path path = folder / kManifestName;
+  if (::lstat(path.c_str(), &info) != 0 || !S_ISREG(info.st_mode) || info.st_size > (64 << 20))
+    return false;
+  std::ifstream in(path);
+  const json manifest = json::parse(in, nullptr, false);
+  if (manifest.is_discarded() || !manifest.is_object() || !manifest.contains("command") ||
+      !manifest["command"].is_string() || !manifest.contains("files") ||
+      !manifest["files"].is_array()) {
+    return false;
+  }
+  command = manifest["command"].get<std::string>();
+  for (const auto& f : manifest["files"]) {
+    if (f.is_string()) files.insert(f.get<std::string>());
+  }
+  return true;
+}
+
+// the first entry under `folder` that its manifest does not list ("" when none)
+std::string first_foreign_entry(const fs::path& folder, const std::set<std::string>& files) {
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(folder, ec);
+       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    const fs::path relative = fs::relative(it->path(), folder);
+    const fs::file_status status = it->symlink_status();
+    if (fs::is_directory(status)) continue;
+    if (!fs::is_regular_file(status) ||
+        (relative != kManifestName && !files.count(relative.generic_string()))) {
+      return relative.string();
+    }
+  }
+  return ec ? std::string("(unreadable: ") + ec.message() + ")" : "";
+}
+
+bool is_empty_folder(const fs::path& folder) {
+  std::error_code ec;
+  return fs::is_empty(folder, ec) && !ec;
+}
+
+std::vector<std::string> files_under(const fs::path& folder) {
+  std::vector<std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(folder)) {
+    if (!entry.is_directory()) files.push_back(fs::relative(entry.path(), folder).generic_string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+// what is lexically wrong with the path, before the file system is asked ("" when nothing)
+std::string lexical_refusal(const std::string& path) {
+  if (path.find_first_not_of(" \t\r\n") == std::string::npos) return "an empty path";
+  if (path.back() == '/') return "ends with '/': name the folder itself";
+  const std::string name = fs::path(path).filename().string();
+  if (name == "." || name == "..") return "names an existing folder ('.' or '..'), not a new one";
+  if (path.size() >= PATH_MAX) return "is too long";
+  for (const auto& part : fs::path(path)) {
+    if (part.string().size() > kLongestName)
+      return "has a name longer than " + std::to_string(kLongestName) + " characters";
+  }
+  return "";
+}
+
+[[noreturn]] void refuse(const std::string& flag, const std::string& path, const std::string& why) {
+  throw SceneError(flag + " '" + path + "': " + why);
+}
+
+}  // namespace
+
+std::string replace_refusal(const std::string& path, const std::string& command, bool force) {
+  struct stat info {};
+  if (::lstat(path.c_str(), &info) != 0) {
+    if (errno == ENOENT) return "";
+    return std::strerror(errno);
+  }
+  if (!S_ISDIR(info.st_mode)) {
+    return std::string("is ") + kind_of(info.st_mode) + ", not a folder chainmail made";
+  }
+  std::string made_by;
+  std::set<std::string> files;
+  if (!read_manifest(path, made_by, files)) {
+    if (is_empty_folder(path)) {
+      return force ? "" : "is a folder chainmail did not make (it is empty: --force replaces it)";
+    }
+    return "is a folder chainmail did not make: refusing to replace it";
+  }
+  if (made_by != command) {
+    return "holds the output of 'chainmail " + made_by + "', which 'chainmail " + command +
+           "' does not replace";
+  }
+  const std::string foreign = first_foreign_entry(path, files);
+  if (!foreign.empty()) {
+    return "holds '" + foreign + "', which chainmail did not write: refusing to replace it";
+  }
+  return "";
+}
+
+OutputFolder OutputFolder::claim(const std::string& path, const std::string& command, bool force,
+                                 const std::string& flag) {
+  if (const std::string why = lexical_refusal(path); !why.empty()) {
+    if (why == "an empty path") throw SceneError(flag + ": an empty path");
+    refuse(flag, path, why);
+  }
+  if (const std::string why = replace_refusal(path, command, force); !why.empty())
+    refuse(flag, path, why);
+
+  OutputFolder folder;
+  folder.path_ = path;
+  folder.command_ = command;
+  folder.flag_ = flag;
+  folder.force_ = force;
+
+  // missing parents are created (and removed again if nothing is committed)
+  const fs::path target = fs::absolute(path).lexically_normal();
+  std::vector<fs::path> missing;
+  for (fs::path p = target.parent_path(); !p.empty(); p = p.parent_path()) {
+    struct stat info {};
+    if (::stat(p.c_str(), &info) == 0) {
+      if (!S_ISDIR(info.st_mode)) refuse(flag, path, p.string() + " is not a folder");
+      break;
+    }
+    if (errno != ENOENT) refuse(flag, path, p.string() + ": " + std::strerror(errno));
+    missing.push_back(p);
+    if (p == p.parent_path()) break;
+  }
+  for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+    if (::mkdir(it->c_str(), 0777) != 0) {
+      const std::string why = "cannot create " + it->string() + ": " + std::strerror(errno);
+      refuse(flag, path, why);  // the destructor removes what was created
+    }
+    folder.created_parents_.push_back(it->string());
+  }
+
+  // the staging folder beside the destination, so that commit() is a rename
+  const std::string pid = std::to_string(::getpid());
+  const fs::path staging =
+      target.parent_path() / ("." + target.filename().string() + ".partial-" + pid);
+  std::error_code ignored;
+  fs::remove_all(staging, ignored);  // a leftover of this very pid cannot be a user's
+  if (::mkdir(staging.c_str(), 0777) != 0) refuse(flag, path, std::strerror(errno));
+  folder.staging_ = staging.string();
+  return folder;
+}
+
+OutputFolder::OutputFolder(OutputFolder&& other) noexcept
+    : path_(std::move(other.path_)),
+      staging_(std::move(other.staging_)),
+      command_(std::move(other.command_)),
+      flag_(std::move(other.flag_)),
+      force_(other.force_),
+      committed_(other.committed_),
+      created_parents_(std::move(other.created_parents_)) {
+  other.committed_ = true;  // the moved-from folder owns nothing
+  other.staging_.clear();
+  other.created_parents_.clear();
+}
+
+OutputFolder::~OutputFolder() {
+  if (committed_) return;
+  std::error_code ignored;
+  if (!staging_.empty()) fs::remove_all(staging_, ignored);
+  for (auto it = created_parents_.rbegin(); it != created_parents_.rend(); ++it)
+    fs::remove(*it, ignored);  // only while empty: never another process's files
+}
+
+void OutputFolder::commit() {
+  json manifest = {
+      {"chainmail", chainmail_version()}, {"command", command_}, {"files", files_under(staging_)}};
+  std::ofstream(fs::path(staging_) / kManifestName) << manifest.dump(1) << "\n";
+
+  // the destination may have changed while the command ran: ask again before replacing it
+  if (const std::string why = replace_refusal(path_, command_, force_); !why.empty()) {
+    committed_ = true;  // keep the results where they are
+    throw SceneError(flag_ + " '" + path_ + "': " + why + " (the results are in " + staging_ + ")");
+  }
+  const fs::path target(path_);
+  const fs::path old = fs::path(staging_).parent_path() /
+                       ("." + target.filename().string() + ".old-" + std::to_string(::getpid()));
+  const bool replacing = fs::exists(fs::symlink_status(target));
+  if (replacing) fs::rename(target, old);
+  fs::rename(staging_, target);
+  committed_ = true;
+  std::error_code ignored;
+  if (replacing) fs::remove_all(old, ignored);  // checked above: only what chainmail wrote
+}
+
+}  // namespace chainmail
