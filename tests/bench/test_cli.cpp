@@ -20,9 +20,8 @@ struct Outcome {
   std::string output;  // stdout and stderr together
 };
 
-Outcome chainmail(const std::string& arguments, const std::string& environment = "") {
-  const std::string line =
-      environment + " " + CHAINMAIL_BINARY_DIR "/bench/chainmail " + arguments + " 2>&1";
+// a shell line's exit status and output (stdout and stderr together)
+Outcome capture(const std::string& line) {
   Outcome outcome;
   FILE* pipe = ::popen(line.c_str(), "r");
   if (!pipe) return outcome;
@@ -35,18 +34,14 @@ Outcome chainmail(const std::string& arguments, const std::string& environment =
   return outcome;
 }
 
-// a shell line as given (for background jobs and signals)
+Outcome chainmail(const std::string& arguments, const std::string& environment = "") {
+  return capture(environment + " " + CHAINMAIL_BINARY_DIR "/bench/chainmail " + arguments +
+                 " 2>&1");
+}
+
+// a bash line as given (for background jobs and signals)
 Outcome chainmail_shell(const std::string& line) {
-  Outcome outcome;
-  FILE* pipe = ::popen(("bash -c '" + line + "' 2>&1").c_str(), "r");
-  if (!pipe) return outcome;
-  char buffer[4096];
-  for (size_t got; (got = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) {
-    outcome.output.append(buffer, got);
-  }
-  const int raw = ::pclose(pipe);
-  outcome.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return outcome;
+  return capture("bash -c '" + line + "' 2>&1");
 }
 
 int lines(const std::string& text) {
