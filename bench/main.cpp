@@ -118,11 +118,12 @@ int main(int argc, char** argv) {
   stability_app->add_flag("--force", stability.force,
                           "replace an empty folder chainmail did not make");
   stability_app->add_flag("--quick", stability.quick, "tiny sizes (test mode)");
-  stability_app->add_option("--max-wall", stability.max_wall_seconds, "watchdog per run, s");
+  stability_app->add_option("--max-wall", stability.max_wall_seconds,
+                            "watchdog per run, s (default 30)");
 
   BenchCommand bench;
-  CLI::App* bench_app =
-      app.add_subcommand("bench", "the default scene set across all backends, writing results/");
+  CLI::App* bench_app = app.add_subcommand(
+      "bench", "the default scene set across all backends, writing results/bench");
   bench_app->add_option("--out", bench.out_dir, "output folder (default results/bench)");
   bench_app->add_flag("--force", bench.force, "replace an empty folder chainmail did not make");
   bench_app->add_flag("--quick", bench.quick, "reduced sizes and durations (test mode)");
@@ -137,6 +138,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "chainmail: %s\n", e.what());

@@ -1,4 +1,4 @@
-// Metrics over RingFrames (names are the CSV columns and summary keys, see DESIGN.md).
+// Metrics over RingFrames (names are the CSV columns and summary keys, see docs/metrics.md).
 #pragma once
 
 #include <optional>

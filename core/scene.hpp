@@ -1,5 +1,5 @@
 // Scene: one description of one experiment, shared by every backend.
-// Loaded from JSON, validated completely before anything runs (see DESIGN.md, "Scene file").
+// Loaded from JSON, validated completely before anything runs (see docs/scene-file.md).
 #pragma once
 
 #include <optional>
@@ -108,7 +108,7 @@ struct Scene {
   nlohmann::json resolved;                             // the whole scene with defaults filled in
 };
 
-// limits on scene text (DESIGN.md, "Scene file"). Nesting deeper than kMaxJsonDepth containers
+// limits on scene text (docs/scene-file.md). Nesting deeper than kMaxJsonDepth containers
 // is refused while parsing, before anything recursive (copy, dump, compare) could overflow the
 // stack; a file larger than kMaxSceneFileBytes is refused without reading it all
 inline constexpr int kMaxJsonDepth = 64;

@@ -199,7 +199,7 @@ BackendRun run_backend(const Scene& scene, const Weave& weave, const std::string
     const bool watchdog =
         options.max_wall_seconds > 0.0 && seconds_since(started) > options.max_wall_seconds;
     if (keep_going && step < total_steps && (interrupted() || watchdog)) {
-      if (run.last->t < run.dt * step) sample(step);
+      if (step % steps_per_sample != 0) sample(step);  // where it got to, unless just sampled
       run.stable = false;
       run.verdict = interrupted() ? "interrupted" : "watchdog";
       break;

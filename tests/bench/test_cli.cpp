@@ -199,6 +199,18 @@ TEST_F(Cli, InterruptWritesWhatFinishedAndExits130) {
     EXPECT_TRUE(summary["interrupted"].get<bool>());
     EXPECT_EQ(summary["backends"]["plausible"]["verdict"], "interrupted");
     EXPECT_EQ(summary["backends"]["massspring"]["verdict"], "interrupted");
+    // the sample where it stopped is written once: times strictly increase, one row per sample
+    std::ifstream csv(fs::path(out()) / "metrics.csv");
+    std::string row;
+    std::getline(csv, row);
+    double last_t = -1.0;
+    long long rows = 0;
+    while (std::getline(csv, row)) {
+      const double t = std::stod(row.substr(row.find(',') + 1));
+      EXPECT_GT(t, last_t) << row;
+      last_t = t, ++rows;
+    }
+    EXPECT_EQ(rows, summary["backends"]["plausible"]["samples"].get<long long>());
     for (const auto& e : fs::directory_iterator(dir_))
       EXPECT_EQ(e.path().filename().string().find(".partial-"), std::string::npos) << e.path();
   }
