@@ -4,11 +4,11 @@
 #pragma once
 
 #include <functional>
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "backends/knobs.hpp"
 #include "core/frame.hpp"
 #include "core/profile.hpp"
 #include "core/scene.hpp"
@@ -16,19 +16,9 @@
 
 namespace chainmail {
 
-// one tunable of a backend, as it appears under backends.<name> in the scene file
-struct KnobSpec {
-  enum class Type { number, integer, boolean };
-  std::string name;
-  Type type = Type::number;
-  double default_value = 0.0;
-  double min = 0.0;  // inclusive
-  double max = 0.0;  // inclusive
-  std::string help;
-};
-
-// resolved knob values (booleans as 0/1), every spec'd knob present
-using Knobs = std::map<std::string, double>;
+// what a step tells the runner: `non_finite` when the model found its state no longer finite
+// (it stops advancing; the runner ends the run with verdict non_finite)
+enum class StepStatus { ok, non_finite };
 
 class Backend {
  public:
@@ -36,7 +26,7 @@ class Backend {
   virtual const char* name() const = 0;
   // build the model; `weave` is the shared rest layout (make_weave of the scene), `knobs` resolved
   virtual void reset(const Scene& scene, const Weave& weave, const Knobs& knobs) = 0;
-  virtual void step(double dt) = 0;
+  virtual StepStatus step(double dt) = 0;
   virtual void frame(RingFrame& out) const = 0;
   // stages that ran so far (collision, self_contact, ...), for the leave-out-what-is-unneeded rule
   virtual const StageProfile& profile() const = 0;
@@ -45,8 +35,11 @@ class Backend {
 struct BackendInfo {
   std::string name;
   std::string summary;
-  std::vector<KnobSpec> knobs;  // must include "dt"
-  bool cloth_surface = false;   // its rings stand for a cloth surface: drawn as a textured mesh
+  std::vector<KnobSpec> knobs;  // must include "dt"; from the backend's KnobTable
+  // the KnobTable's binding (resolved knobs -> settings struct -> bound knob values), so that
+  // tests check every backend's table through the registry
+  std::function<Knobs(const Knobs&)> knob_round_trip;
+  bool cloth_surface = false;  // its rings stand for a cloth surface: drawn as a textured mesh
   // rough costs at default knobs, measured on a 2-core machine, for the up-front estimate that
   // refuses runs too large for the budget and announces long reference runs
   double cost_us_per_ring_step = 1.0;  // wall microseconds per ring per step
@@ -54,13 +47,34 @@ struct BackendInfo {
   std::function<std::unique_ptr<Backend>()> create;
 };
 
-// every backend compiled into this binary, in a fixed order
+// Which backends exist and which this binary has. The project has a fixed set of backends
+// (known_backend_names(): plausible, massspring, bullet, ode); the optional ones (bullet, ode)
+// are built only when the build finds their libraries (CHAINMAIL_WITH_BULLET, CHAINMAIL_WITH_ODE).
+// A name that is known but not built is valid input that this binary cannot run; a name that is
+// not known is bad input.
+
+// every backend built into this binary, in the order of known_backend_names()
 const std::vector<BackendInfo>& backend_registry();
-const BackendInfo* find_backend(const std::string& name);  // nullptr when unknown
+// every backend the project has, built into this binary or not, in a fixed order
+const std::vector<std::string>& known_backend_names();
+bool backend_known(const std::string& name);
+bool backend_built(const std::string& name);                // known and built into this binary
+const BackendInfo* find_backend(const std::string& name);  // nullptr when unknown or not built
+const KnobSpec* find_knob(const BackendInfo& backend, const std::string& name);  // nullptr: none
+
 // knob values for `backend` from scene.backends[backend] over the defaults; throws SceneError
 // naming the key for unknown knobs, wrong types and out-of-range values
 Knobs resolve_knobs(const Scene& scene, const BackendInfo& backend);
-// check every backends.<name> object of the scene (unknown backend names too); throws SceneError
-void validate_backend_knobs(const Scene& scene);
+
+// Checks every backends.<name> section of the scene and the scene's reference. Throws SceneError
+// for a name that is not known ("<file>: key 'backends.<name>': unknown backend (known: ...)",
+// "<file>: key 'reference': unknown backend '<name>'") and for a bad knob of a built backend.
+// A known backend that is not built is not an error: its section is skipped (its knobs cannot be
+// checked without its table) and a reference naming it is accepted. Returns one note per skipped
+// section, "backends.<name>: not built into this binary, its knobs are not checked", for the
+// caller to print once; the same note for the same name in every scene, so notes from several
+// scenes can be merged. What to do with a reference that is known but not built (run without
+// drape_rms, refuse, pick another) is the caller's decision: test backend_built(scene.reference).
+std::vector<std::string> validate_backend_knobs(const Scene& scene);
 
 }  // namespace chainmail

@@ -3,8 +3,6 @@
 // polygon; pins are static bodies, colliders static shapes. Bullet runs in scaled internal units
 // (length_scale per metre) because it is tuned for objects of about a unit; everything in and out
 // is SI. step(dt) runs a fixed number of equal internal steps, so runs are deterministic.
-#include "backends/bullet_backend.hpp"
-
 #include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
@@ -13,6 +11,9 @@
 #include <memory>
 #include <numbers>
 #include <vector>
+
+#include "backends/backend.hpp"
+#include "core/capsule_torus.hpp"
 
 namespace chainmail {
 
@@ -23,7 +24,6 @@ namespace {
 // tori overlapping no more than the capsule approximation allows; 28 pieces keep the compound's
 // surface within 2 % of the wire radius for AR 5 rings; millimetres make rings a few units wide.
 struct BulletSettings {
-  double dt = 1e-3;                           // s, one step() of the harness
   int substeps = 2;                           // equal internal Bullet steps per step()
   int solver_iterations = 20;                 // sequential-impulse sweeps per internal step
   double restitution = 0.0;                   // ring-ring and ring-collider bounce
@@ -33,22 +33,32 @@ struct BulletSettings {
   double length_scale = 1000.0;               // internal units per metre
   bool split_impulse = true;                  // resolve penetration apart from velocity
   double contact_processing_threshold = 1.0;  // m; points separated by more are kept, not solved
-
-  static BulletSettings from_knobs(const Knobs& knobs) {
-    BulletSettings s;
-    s.dt = knobs.at("dt");
-    s.substeps = static_cast<int>(knobs.at("substeps"));
-    s.solver_iterations = static_cast<int>(knobs.at("solver_iterations"));
-    s.restitution = knobs.at("restitution");
-    s.linear_damping = knobs.at("linear_damping");
-    s.angular_damping = knobs.at("angular_damping");
-    s.pieces = static_cast<int>(knobs.at("pieces"));
-    s.length_scale = knobs.at("length_scale");
-    s.split_impulse = knobs.at("split_impulse") != 0.0;
-    s.contact_processing_threshold = knobs.at("contact_processing_threshold");
-    return s;
-  }
 };
+
+// every knob once, bound to its BulletSettings field (the field's default is the knob's)
+const KnobTable<BulletSettings>& bullet_knobs() {
+  using S = BulletSettings;
+  static const KnobTable<S> table = [] {
+    KnobTable<S> t;
+    t.time_step(1e-3, 1e-5, 0.1, "time step of the harness, s");
+    t.integer("substeps", &S::substeps, 1, 64, "equal internal Bullet steps per time step");
+    t.integer("solver_iterations", &S::solver_iterations, 1, 1000,
+              "sequential-impulse sweeps per internal step");
+    t.number("restitution", &S::restitution, 0.0, 1.0, "coefficient of restitution");
+    t.number("linear_damping", &S::linear_damping, 0.0, 1.0,
+             "fraction of linear velocity removed per second");
+    t.number("angular_damping", &S::angular_damping, 0.0, 1.0,
+             "fraction of angular velocity removed per second");
+    t.integer("pieces", &S::pieces, 6, 256,
+              "capsules per ring torus (28: surface within 2% of the wire radius for AR 5)");
+    t.number("length_scale", &S::length_scale, 1e-3, 1e6, "Bullet internal units per metre");
+    t.boolean("split_impulse", &S::split_impulse, "resolve penetration without adding velocity");
+    t.number("contact_processing_threshold", &S::contact_processing_threshold, 0.0, 1e3,
+             "contact points separated by more than this are kept but not solved, m");
+    return t;
+  }();
+  return table;
+}
 
 // user index of a collision object: ring index, or this for static colliders
 constexpr int kColliderIndex = -1;
@@ -161,7 +171,7 @@ class BulletBackend final : public Backend {
 
   const char* name() const override { return "bullet"; }
   void reset(const Scene& scene, const Weave& weave, const Knobs& knobs) override;
-  void step(double dt) override;
+  StepStatus step(double dt) override;
   void frame(RingFrame& out) const override;
   const StageProfile& profile() const override { return profile_; }
 
@@ -214,7 +224,7 @@ void BulletBackend::release() {
 
 void BulletBackend::reset(const Scene& scene, const Weave& weave, const Knobs& knobs) {
   release();
-  settings_ = BulletSettings::from_knobs(knobs);
+  settings_ = bullet_knobs().settings(knobs);
   neighbours_ = weave.neighbours;
   pair_filter_.neighbours = &neighbours_;
   pair_filter_.self_contact = scene.self_contact;
@@ -339,11 +349,12 @@ void BulletBackend::add_rings(const Scene& scene, const Weave& weave) {
   }
 }
 
-void BulletBackend::step(double dt) {
+StepStatus BulletBackend::step(double dt) {
   // fixed equal internal steps; maxSubSteps = 0 makes Bullet take exactly one step of h
   const btScalar h = static_cast<btScalar>(dt / settings_.substeps);
   for (int k = 0; k < settings_.substeps; ++k) world_->stepSimulation(h, 0, h);
   time_ += dt;
+  return StepStatus::ok;
 }
 
 void BulletBackend::frame(RingFrame& out) const {
@@ -364,32 +375,13 @@ void BulletBackend::frame(RingFrame& out) const {
 }  // namespace
 
 BackendInfo bullet_backend_info() {
-  using T = KnobSpec::Type;
-  const BulletSettings d;
   BackendInfo info;
   info.name = "bullet";
   info.cost_us_per_ring_step = 150;
   info.bytes_per_ring = 8000;
   info.summary = "rigid tori (compound of capsules), Bullet sequential-impulse solver";
-  info.knobs = {
-      {"dt", T::number, d.dt, 1e-5, 0.1, "time step of the harness, s"},
-      {"substeps", T::integer, static_cast<double>(d.substeps), 1, 64,
-       "equal internal Bullet steps per time step"},
-      {"solver_iterations", T::integer, static_cast<double>(d.solver_iterations), 1, 1000,
-       "sequential-impulse sweeps per internal step"},
-      {"restitution", T::number, d.restitution, 0.0, 1.0, "coefficient of restitution"},
-      {"linear_damping", T::number, d.linear_damping, 0.0, 1.0,
-       "fraction of linear velocity removed per second"},
-      {"angular_damping", T::number, d.angular_damping, 0.0, 1.0,
-       "fraction of angular velocity removed per second"},
-      {"pieces", T::integer, static_cast<double>(d.pieces), 6, 256,
-       "capsules per ring torus (28: surface within 2% of the wire radius for AR 5)"},
-      {"length_scale", T::number, d.length_scale, 1e-3, 1e6, "Bullet internal units per metre"},
-      {"split_impulse", T::boolean, d.split_impulse ? 1.0 : 0.0, 0, 1,
-       "resolve penetration without adding velocity"},
-      {"contact_processing_threshold", T::number, d.contact_processing_threshold, 0.0, 1e3,
-       "contact points separated by more than this are kept but not solved, m"},
-  };
+  info.knobs = bullet_knobs().specs();
+  info.knob_round_trip = bullet_knobs().round_trip();
   info.create = [] { return std::unique_ptr<Backend>(std::make_unique<BulletBackend>()); };
   return info;
 }

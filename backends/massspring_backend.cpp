@@ -8,20 +8,45 @@
 namespace chainmail {
 namespace {
 
-// model settings from resolved knobs and the scene
-massspring::Settings settings_from(const Scene& scene, const Weave& weave, const Knobs& knobs) {
-  massspring::Settings s;
-  s.ks = knobs.at("ks");
-  s.shear_ks = knobs.at("shear_ks");
-  s.bend_ks = knobs.at("bend_ks");
-  s.damping_percent = knobs.at("damping_percent");
-  s.correction_passes = static_cast<int>(knobs.at("correction_passes"));
-  s.max_extension = knobs.at("max_extension");
-  s.areal_density = knobs.at("areal_density");
+// the model's settings plus the adapter's own: the struct the knob table binds
+struct MassSpringKnobs : massspring::Settings {
+  int substeps = 1;  // Verlet steps per dt
+};
+
+// every knob once, bound to its field (the field's default is the knob's); thickness 0 and the
+// scene-derived fields are filled in by settings_from
+const KnobTable<MassSpringKnobs>& massspring_knobs() {
+  using S = massspring::Settings;
+  static const KnobTable<MassSpringKnobs> table = [] {
+    KnobTable<MassSpringKnobs> t;
+    t.time_step(1.0 / 2700.0, 1e-7, 0.1, "time step, s (90 frames/s x 30 steps)");
+    t.integer("substeps", &MassSpringKnobs::substeps, 1, 1000, "Verlet steps per dt");
+    t.number("ks", &S::ks, 0.0, 1e9, "structural spring constant, N/m");
+    t.number("shear_ks", &S::shear_ks, 0.0, 1e9, "shear spring constant, N/m");
+    t.number("bend_ks", &S::bend_ks, 0.0, 1e9, "bending spring constant, N/m");
+    t.number("damping_percent", &S::damping_percent, 0.0, 100.0,
+             "Verlet damping, percent per step");
+    t.integer("correction_passes", &S::correction_passes, 0, 10000,
+              "over-extension correction passes per step (0 = off)");
+    t.number("max_extension", &S::max_extension, 0.0, 10.0,
+             "largest spring extension, fraction of rest");
+    t.number("thickness", &S::thickness, 0.0, 10.0,
+             "self-collision distance, m (0 = the ring's wire thickness 2a)");
+    t.number("areal_density", &S::areal_density, 0.0, 1e6,
+             "kg/m^2 of rest sheet (0 = each mass weighs one ring)");
+    return t;
+  }();
+  return table;
+}
+
+// model settings from the knob fields (substeps dropped) and the scene
+massspring::Settings settings_from(const Scene& scene, const Weave& weave,
+                                   const MassSpringKnobs& knobs) {
+  massspring::Settings s = knobs;
   s.point_mass = scene.ring.mass();
   // self-collision only when the scene asks for it; thickness 0 = the ring's wire thickness 2a
   s.self_collision = scene.self_contact;
-  s.thickness = knobs.at("thickness") > 0.0 ? knobs.at("thickness") : scene.ring.wire_diameter();
+  if (s.thickness <= 0.0) s.thickness = scene.ring.wire_diameter();
   // a ring centre stays a wire radius above a surface; a cloth mass a tenth of the thickness, so
   // that the flat triangles between masses do not cut into a curved collider
   s.collision_margin = weave.type == WeaveType::grid ? 0.1 * s.thickness : scene.ring.wire_radius;
@@ -33,12 +58,14 @@ class MassSpringBackend final : public Backend {
   const char* name() const override { return "massspring"; }
 
   void reset(const Scene& scene, const Weave& weave, const Knobs& knobs) override {
+    const MassSpringKnobs settings = massspring_knobs().settings(knobs);
     weave_ = weave;
-    model_ = massspring::make_model(scene, weave_, settings_from(scene, weave_, knobs));
+    model_ = massspring::make_model(scene, weave_, settings_from(scene, weave_, settings));
     state_ = massspring::make_state(model_, weave_.rest_position);
-    substeps_ = static_cast<int>(knobs.at("substeps"));
-    // the scene's initial velocity, as Verlet holds it: the previous position one step back
-    const double h = knobs.at("dt") / substeps_;
+    substeps_ = settings.substeps;
+    // the scene's initial velocity, as Verlet holds it: the previous position one step back (of
+    // the dt knob, the step the harness takes)
+    const double h = knob_value(knobs, "dt") / substeps_;
     for (int m = 0; m < state_.size(); ++m) {
       if (model_.inv_mass[m] > 0.0) state_.previous.col(m) -= h * scene.initial_velocity;
     }
@@ -47,9 +74,10 @@ class MassSpringBackend final : public Backend {
     profile_.clear();
   }
 
-  void step(double dt) override {
+  StepStatus step(double dt) override {
     const double h = dt / substeps_;
     for (int k = 0; k < substeps_; ++k) massspring::step(model_, state_, h, profile_);
+    return StepStatus::ok;
   }
 
   void frame(RingFrame& out) const override {
@@ -75,7 +103,6 @@ class MassSpringBackend final : public Backend {
 }  // namespace
 
 BackendInfo massspring_backend_info() {
-  using T = KnobSpec::Type;
   BackendInfo info;
   info.name = "massspring";
   info.cost_us_per_ring_step = 0.5;
@@ -84,21 +111,8 @@ BackendInfo massspring_backend_info() {
   info.summary =
       "mass-spring cloth: structural/shear/bending springs, damped Verlet, 10 % over-extension "
       "correction, surface-following ring orientation";
-  info.knobs = {
-      {"dt", T::number, 1.0 / 2700.0, 1e-7, 0.1, "time step, s (90 frames/s x 30 steps)"},
-      {"substeps", T::integer, 1, 1, 1000, "Verlet steps per dt"},
-      {"ks", T::number, 5000.0, 0.0, 1e9, "structural spring constant, N/m"},
-      {"shear_ks", T::number, 5000.0, 0.0, 1e9, "shear spring constant, N/m"},
-      {"bend_ks", T::number, 1000.0, 0.0, 1e9, "bending spring constant, N/m"},
-      {"damping_percent", T::number, 0.2, 0.0, 100.0, "Verlet damping, percent per step"},
-      {"correction_passes", T::integer, 1, 0, 10000,
-       "over-extension correction passes per step (0 = off)"},
-      {"max_extension", T::number, 0.1, 0.0, 10.0, "largest spring extension, fraction of rest"},
-      {"thickness", T::number, 0.0, 0.0, 10.0,
-       "self-collision distance, m (0 = the ring's wire thickness 2a)"},
-      {"areal_density", T::number, 0.0, 0.0, 1e6,
-       "kg/m^2 of rest sheet (0 = each mass weighs one ring)"},
-  };
+  info.knobs = massspring_knobs().specs();
+  info.knob_round_trip = massspring_knobs().round_trip();
   info.create = [] { return std::unique_ptr<Backend>(new MassSpringBackend()); };
   return info;
 }

@@ -1,29 +1,51 @@
 // Adapter: the paper's plausible model (core/plausible.hpp) behind the Backend interface.
+#include <numbers>
+
 #include "backends/backend.hpp"
 #include "core/plausible.hpp"
 
 namespace chainmail {
 namespace {
 
+// every knob once, bound to its PlausibleSettings field (the field's default is the knob's)
+const KnobTable<PlausibleSettings>& plausible_knobs() {
+  using S = PlausibleSettings;
+  static const KnobTable<S> table = [] {
+    KnobTable<S> t;
+    t.time_step(0.004, 1e-6, 0.1, "time step, s");
+    t.integer("iterations", &S::iterations, 1, 100000, "constraint sweeps per step");
+    t.number("max_link_fraction", &S::max_link_fraction, 0.2, 1.0,
+             "largest neighbour distance / inner diameter");
+    t.number("damping", &S::damping, 0.0, 1000.0, "velocity drag, 1/s");
+    t.number("repulsion_fraction", &S::repulsion_fraction, 0.0, 2.0,
+             "non-neighbour repulsion range / inner diameter");
+    t.number("repulsion_stiffness", &S::repulsion_stiffness, 0.0, 1e9, "N/m");
+    t.number("contact_skin", &S::contact_skin, 0.0, 10.0,
+             "repulsion candidate list margin, fraction of the range (0 = rebuild every step)");
+    t.number("contact_margin", &S::contact_margin, 0.0, 1.0,
+             "collider skin around a ring centre, m (0: a + c sin(a/c))");
+    t.boolean("swivel", &S::swivel, "swivel rings into the 4-in-1 pattern");
+    t.boolean("shock_propagation", &S::shock_propagation,
+              "a last constraint pass outward from the pins, moving only the far ring");
+    t.number("swivel_extended", &S::swivel_extended, 0.0, 0.5 * std::numbers::pi,
+             "swivel angle at full extension, rad (0: the paper's a/c)");
+    t.boolean("swivel_fit", &S::swivel_fit,
+              "swivel at full extension fitted to the ring geometry (most neighbour clearance)");
+    return t;
+  }();
+  return table;
+}
+
 class PlausibleBackend final : public Backend {
  public:
   const char* name() const override { return "plausible"; }
   void reset(const Scene& scene, const Weave& weave, const Knobs& knobs) override {
-    PlausibleSettings settings;
-    settings.iterations = static_cast<int>(knobs.at("iterations"));
-    settings.max_link_fraction = knobs.at("max_link_fraction");
-    settings.damping = knobs.at("damping");
-    settings.repulsion_fraction = knobs.at("repulsion_fraction");
-    settings.repulsion_stiffness = knobs.at("repulsion_stiffness");
-    settings.contact_skin = knobs.at("contact_skin");
-    settings.contact_margin = knobs.at("contact_margin");
-    settings.swivel = knobs.at("swivel") != 0.0;
-    settings.swivel_extended = knobs.at("swivel_extended");
-    settings.swivel_fit = knobs.at("swivel_fit") != 0.0;
-    settings.shock_propagation = knobs.at("shock_propagation") != 0.0;
-    sim_.reset(scene, weave, settings);
+    sim_.reset(scene, weave, plausible_knobs().settings(knobs));
   }
-  void step(double dt) override { sim_.step(dt); }
+  StepStatus step(double dt) override {
+    sim_.step(dt);
+    return StepStatus::ok;
+  }
   void frame(RingFrame& out) const override { sim_.frame(out); }
   const StageProfile& profile() const override { return sim_.profile(); }
 
@@ -34,35 +56,13 @@ class PlausibleBackend final : public Backend {
 }  // namespace
 
 BackendInfo plausible_backend_info() {
-  const PlausibleSettings d;
-  using T = KnobSpec::Type;
   BackendInfo info;
   info.name = "plausible";
   info.cost_us_per_ring_step = 0.3;
   info.bytes_per_ring = 1000;
   info.summary = "the paper's mass-per-ring model: Provot edge constraints, repulsion, swivel";
-  info.knobs = {
-      {"dt", T::number, 0.004, 1e-6, 0.1, "time step, s"},
-      {"iterations", T::integer, static_cast<double>(d.iterations), 1, 100000,
-       "constraint sweeps per step"},
-      {"max_link_fraction", T::number, d.max_link_fraction, 0.2, 1.0,
-       "largest neighbour distance / inner diameter"},
-      {"damping", T::number, d.damping, 0.0, 1000.0, "velocity drag, 1/s"},
-      {"repulsion_fraction", T::number, d.repulsion_fraction, 0.0, 2.0,
-       "non-neighbour repulsion range / inner diameter"},
-      {"repulsion_stiffness", T::number, d.repulsion_stiffness, 0.0, 1e9, "N/m"},
-      {"contact_skin", T::number, d.contact_skin, 0.0, 10.0,
-       "repulsion candidate list margin, fraction of the range (0 = rebuild every step)"},
-      {"contact_margin", T::number, d.contact_margin, 0.0, 1.0,
-       "collider skin around a ring centre, m (0: a + c sin(a/c))"},
-      {"swivel", T::boolean, 1.0, 0.0, 1.0, "swivel rings into the 4-in-1 pattern"},
-      {"shock_propagation", T::boolean, 1.0, 0.0, 1.0,
-       "a last constraint pass outward from the pins, moving only the far ring"},
-      {"swivel_extended", T::number, d.swivel_extended, 0.0, 1.5707963267948966,
-       "swivel angle at full extension, rad (0: the paper's a/c)"},
-      {"swivel_fit", T::boolean, 0.0, 0.0, 1.0,
-       "swivel at full extension fitted to the ring geometry (most neighbour clearance)"},
-  };
+  info.knobs = plausible_knobs().specs();
+  info.knob_round_trip = plausible_knobs().round_trip();
   info.create = [] { return std::make_unique<PlausibleBackend>(); };
   return info;
 }

@@ -1,39 +1,109 @@
+// The backend registry: the one list of backends the project has, which of them this binary was
+// built with, and their knobs resolved from a scene.
+#include <algorithm>
 #include <cmath>
-#include <set>
 #include <sstream>
 
 #include "backends/backend.hpp"
 
+// whether an optional backend is built: 0 or 1, defined by backends/CMakeLists.txt
+#ifndef CHAINMAIL_HAVE_BULLET
+#define CHAINMAIL_HAVE_BULLET 0
+#endif
+#ifndef CHAINMAIL_HAVE_ODE
+#define CHAINMAIL_HAVE_ODE 0
+#endif
+
+// Every backend the project has, in the order the harness lists them: its name and whether this
+// binary has it. A built backend is described by <name>_backend_info(), defined in its adapter.
+// A new backend needs its adapter, its sources in backends/CMakeLists.txt and one line here.
+#define CHAINMAIL_BACKENDS(X)      \
+  X(plausible, 1)                  \
+  X(massspring, 1)                 \
+  X(bullet, CHAINMAIL_HAVE_BULLET) \
+  X(ode, CHAINMAIL_HAVE_ODE)
+
 namespace chainmail {
 
-BackendInfo plausible_backend_info();
-BackendInfo massspring_backend_info();
-#if CHAINMAIL_HAVE_BULLET
-BackendInfo bullet_backend_info();
-#endif
-#if CHAINMAIL_HAVE_ODE
-BackendInfo ode_backend_info();
-#endif
+#define CHAINMAIL_DECLARE_INFO(name, built) BackendInfo name##_backend_info();
+CHAINMAIL_BACKENDS(CHAINMAIL_DECLARE_INFO)
+#undef CHAINMAIL_DECLARE_INFO
 
-const std::vector<BackendInfo>& backend_registry() {
-  static const std::vector<BackendInfo> registry = [] {
-    std::vector<BackendInfo> all;
-    all.push_back(plausible_backend_info());
-    all.push_back(massspring_backend_info());
-#if CHAINMAIL_HAVE_BULLET
-    all.push_back(bullet_backend_info());
-#endif
-#if CHAINMAIL_HAVE_ODE
-    all.push_back(ode_backend_info());
-#endif
-    return all;
+namespace {
+
+struct Registry {
+  std::vector<std::string> known;  // every backend, built or not
+  std::vector<BackendInfo> built;  // those in this binary, in the same order
+};
+
+const Registry& registry() {
+  static const Registry all = [] {
+    Registry r;
+    // an unbuilt backend's info call sits in a discarded statement, which needs no definition
+#define CHAINMAIL_REGISTER(name, is_built) \
+  r.known.push_back(#name);                \
+  if constexpr (is_built) r.built.push_back(name##_backend_info());
+    CHAINMAIL_BACKENDS(CHAINMAIL_REGISTER)
+#undef CHAINMAIL_REGISTER
+    return r;
   }();
-  return registry;
+  return all;
 }
+
+// "a, b, c"
+std::string joined(const std::vector<std::string>& names) {
+  std::string text;
+  for (const auto& name : names) text += (text.empty() ? "" : ", ") + name;
+  return text;
+}
+
+std::vector<std::string> knob_names(const BackendInfo& backend) {
+  std::vector<std::string> names;
+  for (const auto& spec : backend.knobs) names.push_back(spec.name);
+  return names;
+}
+
+// the given value's JSON kind fits the knob's type; throws SceneError naming `key`
+void check_kind(const KnobSpec& spec, const KnobValue& given, const std::string& key) {
+  using Kind = KnobValue::Kind;
+  switch (spec.type) {
+    case KnobSpec::Type::boolean:
+      if (given.kind != Kind::boolean) throw SceneError(key + ": must be true or false");
+      break;
+    case KnobSpec::Type::integer:
+      if (given.kind != Kind::integer) throw SceneError(key + ": must be an integer");
+      break;
+    case KnobSpec::Type::number:
+      if (given.kind != Kind::number && given.kind != Kind::integer) {
+        throw SceneError(key + ": must be a number");
+      }
+      break;
+  }
+}
+
+}  // namespace
+
+const std::vector<BackendInfo>& backend_registry() { return registry().built; }
+
+const std::vector<std::string>& known_backend_names() { return registry().known; }
+
+bool backend_known(const std::string& name) {
+  const auto& known = known_backend_names();
+  return std::find(known.begin(), known.end(), name) != known.end();
+}
+
+bool backend_built(const std::string& name) { return find_backend(name) != nullptr; }
 
 const BackendInfo* find_backend(const std::string& name) {
   for (const auto& info : backend_registry()) {
     if (info.name == name) return &info;
+  }
+  return nullptr;
+}
+
+const KnobSpec* find_knob(const BackendInfo& backend, const std::string& name) {
+  for (const auto& spec : backend.knobs) {
+    if (spec.name == name) return &spec;
   }
   return nullptr;
 }
@@ -44,33 +114,14 @@ Knobs resolve_knobs(const Scene& scene, const BackendInfo& backend) {
   const auto it = scene.backends.find(backend.name);
   if (it == scene.backends.end()) return knobs;
   const std::string prefix = scene.file + ": key 'backends." + backend.name;
-  if (!it->is_object()) throw SceneError(prefix + "': must be an object");
-  for (auto knob = it->begin(); knob != it->end(); ++knob) {
-    const std::string key = prefix + "." + knob.key() + "'";
-    const KnobSpec* spec = nullptr;
-    for (const auto& s : backend.knobs) {
-      if (s.name == knob.key()) spec = &s;
-    }
+  for (const auto& [name, given] : it->second) {
+    const std::string key = prefix + "." + name + "'";
+    const KnobSpec* spec = find_knob(backend, name);
     if (!spec) {
-      std::string known;
-      for (const auto& s : backend.knobs) known += (known.empty() ? "" : ", ") + s.name;
-      throw SceneError(key + ": unknown knob (known: " + known + ")");
+      throw SceneError(key + ": unknown knob (known: " + joined(knob_names(backend)) + ")");
     }
-    double value = 0.0;
-    switch (spec->type) {
-      case KnobSpec::Type::boolean:
-        if (!knob->is_boolean()) throw SceneError(key + ": must be true or false");
-        value = knob->get<bool>() ? 1.0 : 0.0;
-        break;
-      case KnobSpec::Type::integer:
-        if (!knob->is_number_integer()) throw SceneError(key + ": must be an integer");
-        value = static_cast<double>(knob->get<long long>());
-        break;
-      case KnobSpec::Type::number:
-        if (!knob->is_number()) throw SceneError(key + ": must be a number");
-        value = knob->get<double>();
-        break;
-    }
+    check_kind(*spec, given, key);
+    const double value = given.value;
     if (!std::isfinite(value) || value < spec->min || value > spec->max) {
       std::ostringstream msg;
       msg << key << ": must be in [" << spec->min << ", " << spec->max << "], got " << value;
@@ -81,20 +132,24 @@ Knobs resolve_knobs(const Scene& scene, const BackendInfo& backend) {
   return knobs;
 }
 
-void validate_backend_knobs(const Scene& scene) {
-  for (auto it = scene.backends.begin(); it != scene.backends.end(); ++it) {
-    const BackendInfo* info = find_backend(it.key());
-    if (!info) {
-      std::string known;
-      for (const auto& b : backend_registry()) known += (known.empty() ? "" : ", ") + b.name;
-      throw SceneError(scene.file + ": key 'backends." + it.key() +
-                       "': unknown backend (known: " + known + ")");
+std::vector<std::string> validate_backend_knobs(const Scene& scene) {
+  std::vector<std::string> notes;
+  for (const auto& [name, section] : scene.backends) {
+    if (!backend_known(name)) {
+      throw SceneError(scene.file + ": key 'backends." + name + "': unknown backend (known: " +
+                       joined(known_backend_names()) + ")");
     }
-    resolve_knobs(scene, *info);
+    if (const BackendInfo* info = find_backend(name)) {
+      resolve_knobs(scene, *info);
+    } else {
+      notes.push_back("backends." + name +
+                      ": not built into this binary, its knobs are not checked");
+    }
   }
-  if (!find_backend(scene.reference)) {
+  if (!backend_known(scene.reference)) {
     throw SceneError(scene.file + ": key 'reference': unknown backend '" + scene.reference + "'");
   }
+  return notes;
 }
 
 }  // namespace chainmail

@@ -1,26 +1,57 @@
 // chainmail: run scenes through every model, measure, compare, render.
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <exception>
-
-#include <cmath>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
+#include "bench/harness/bench_suite.hpp"
 #include "bench/harness/commands.hpp"
 #include "bench/harness/interrupt.hpp"
-#include "bench/harness/suites.hpp"
+#include "bench/harness/stability.hpp"
+#include "bench/harness/sweep.hpp"
+#include "bench/harness/usage_error.hpp"
 #include "bench/harness/version.hpp"
 #include "core/scene.hpp"
 
 namespace {
+
+using chainmail::UsageError;
+
+// each subcommand: what it runs, and the flags that are checked or converted before it runs
+struct RunFlags {
+  CLI::App* app = nullptr;
+  chainmail::RunCommand command;
+  std::string backends;
+  bool quiet = false;
+};
+struct SweepFlags {
+  CLI::App* app = nullptr;
+  chainmail::SweepCommand command;
+  std::string backends;
+};
+struct StabilityFlags {
+  CLI::App* app = nullptr;
+  chainmail::StabilityCommand command;
+  std::string backends;
+};
+struct BenchFlags {
+  CLI::App* app = nullptr;
+  chainmail::BenchCommand command;
+  std::string backends;
+  bool no_render = false;
+};
+
 // this binary, so sweep points run the very same build
 std::string self_path(const char* argv0) {
   std::error_code ec;
   const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
   return ec ? std::string(argv0) : exe.string();
 }
+
 // --backends a,b,c: every name non-empty ("all" alone means every backend)
 std::vector<std::string> backend_list(const std::string& flag, const std::string& text) {
   std::vector<std::string> names;
@@ -28,10 +59,14 @@ std::vector<std::string> backend_list(const std::string& flag, const std::string
   for (std::string name; std::getline(stream, name, ',');) names.push_back(name);
   if (text.empty() || text.back() == ',') names.push_back("");
   for (const auto& name : names) {
-    if (name.empty())
-      throw chainmail::SceneError(flag + " '" + text + "': an empty name in the list");
+    if (name.empty()) throw UsageError(flag + " '" + text + "': an empty name in the list");
   }
   return names;
+}
+
+// the --backends list of a subcommand, when given
+void read_backends(CLI::App* app, const std::string& text, std::vector<std::string>& backends) {
+  if (app->count("--backends")) backends = backend_list("--backends", text);
 }
 
 // a flag's number must be finite and positive
@@ -39,7 +74,7 @@ void check_positive(const std::string& flag, double value) {
   if (!std::isfinite(value) || value <= 0.0) {
     std::ostringstream got;
     got << value;
-    throw chainmail::SceneError(flag + ": must be a positive finite number, got " + got.str());
+    throw UsageError(flag + ": must be a positive finite number, got " + got.str());
   }
 }
 
@@ -59,80 +94,74 @@ void check_budget_flags(const chainmail::Budget& budget) {
   check_positive("--max-output", budget.max_output_gb);
 }
 
-}  // namespace
+void add_run(CLI::App& app, RunFlags& flags) {
+  chainmail::RunCommand& run = flags.command;
+  CLI::App* sub = flags.app =
+      app.add_subcommand("run", "run one scene through one or more backends");
+  sub->add_option("scene", run.scene_file, "scene file (JSON)")->required();
+  sub->add_option("--backends", flags.backends, "backends to run: a list, or all");
+  sub->add_option("--out", run.out_dir,
+                  "output folder (default results/<scene name>/run); only a folder chainmail "
+                  "made is replaced");
+  sub->add_flag("--force", run.force, "replace an empty folder chainmail did not make");
+  sub->add_option("--reference", run.reference,
+                  "backend drape_rms is measured against (default: the scene's), or none");
+  add_budget(sub, run.budget);
+  sub->add_flag("--frames", run.frames, "write frames/<backend>/<NNNNN>.csv");
+  sub->add_flag("--render", run.render, "render side-by-side PNG frames into images/");
+  sub->add_option("--shader", run.shader,
+                  "cloth shader for --render: blinn_phong, texture, bump, displacement, mirror");
+  sub->add_option("--material", run.material,
+                  "ring material for --render: steel, silver, gold, copper, brass, bronze, "
+                  "titanium");
+  sub->add_option("--set", run.overrides, "override a scene key: dotted.key=value");
+  sub->add_option("--cache", run.cache_dir,
+                  "reference-run cache folder, or none (default ~/.cache/chainmail)");
+  sub->add_flag("--quiet", flags.quiet, "no progress lines");
+}
 
-int main(int argc, char** argv) {
-  using namespace chainmail;
-  CLI::App app{"chainmail: a physics comparison harness for interlocking-ring fabric"};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", chainmail_version() + " (" + chainmail_commit() + ", " +
-                                        chainmail_build() + ")");
-
-  RunCommand run;
-  CLI::App* run_app = app.add_subcommand("run", "run one scene through one or more backends");
-  run_app->add_option("scene", run.scene_file, "scene file (JSON)")->required();
-  std::string run_backends, sweep_backends, stability_backends, bench_backends;
-  run_app->add_option("--backends", run_backends, "backends to run: a list, or all");
-  run_app->add_option("--out", run.out_dir,
-                      "output folder (default results/<scene name>/run); only a folder chainmail "
-                      "made is replaced");
-  run_app->add_flag("--force", run.force, "replace an empty folder chainmail did not make");
-  run_app->add_option("--reference", run.reference,
-                      "backend drape_rms is measured against (default: the scene's), or none");
-  add_budget(run_app, run.budget);
-  run_app->add_flag("--frames", run.frames, "write frames/<backend>/<NNNNN>.csv");
-  run_app->add_flag("--render", run.render, "render side-by-side PNG frames into images/");
-  run_app->add_option(
-      "--shader", run.shader,
-      "cloth shader for --render: blinn_phong, texture, bump, displacement, mirror");
-  run_app->add_option("--material", run.material,
-                      "ring material for --render: steel, silver, gold, copper, brass, bronze, "
-                      "titanium");
-  run_app->add_option("--set", run.overrides, "override a scene key: dotted.key=value");
-  run_app->add_option("--cache", run.cache_dir,
-                      "reference-run cache folder, or none (default ~/.cache/chainmail)");
-  bool run_quiet = false;
-  run_app->add_flag("--quiet", run_quiet, "no progress lines");
-
-  SweepCommand sweep;
-  CLI::App* sweep_app =
+void add_sweep(CLI::App& app, SweepFlags& flags) {
+  chainmail::SweepCommand& sweep = flags.command;
+  CLI::App* sub = flags.app =
       app.add_subcommand("sweep", "error against run time over a grid of knob values");
-  sweep_app->add_option("scene", sweep.scene_file, "scene file (JSON)")->required();
-  sweep_app->add_option("--vary", sweep.vary, "KEY=v1,v2,... ({backend} in KEY: each backend)")
+  sub->add_option("scene", sweep.scene_file, "scene file (JSON)")->required();
+  sub->add_option("--vary", sweep.vary, "KEY=v1,v2,... ({backend} in KEY: each backend)")
       ->required();
-  sweep_app->add_option("--backends", sweep_backends, "backends: a list, or all");
-  sweep_app->add_option("--set", sweep.overrides, "override a scene key for every point");
-  sweep_app->add_option("--out", sweep.out_dir, "output folder (default results/<scene>/sweep)");
-  sweep_app->add_flag("--force", sweep.force, "replace an empty folder chainmail did not make");
-  sweep_app->add_option("--jobs", sweep.jobs, "points run in parallel")->check(CLI::Range(1, 256));
-  sweep_app->add_flag("--print-jobs", sweep.print_jobs, "print each point's command line and stop");
-  sweep_app->add_option("--cache", sweep.cache_dir,
-                        "reference-run cache folder, or none (default ~/.cache/chainmail)");
+  sub->add_option("--backends", flags.backends, "backends: a list, or all");
+  sub->add_option("--set", sweep.overrides, "override a scene key for every point");
+  sub->add_option("--out", sweep.out_dir, "output folder (default results/<scene>/sweep)");
+  sub->add_flag("--force", sweep.force, "replace an empty folder chainmail did not make");
+  sub->add_option("--jobs", sweep.jobs, "points run in parallel")->check(CLI::Range(1, 256));
+  sub->add_flag("--print-jobs", sweep.print_jobs, "print each point's command line and stop");
+  sub->add_option("--cache", sweep.cache_dir,
+                  "reference-run cache folder, or none (default ~/.cache/chainmail)");
+}
 
-  StabilityCommand stability;
-  CLI::App* stability_app =
+void add_stability(CLI::App& app, StabilityFlags& flags) {
+  chainmail::StabilityCommand& stability = flags.command;
+  CLI::App* sub = flags.app =
       app.add_subcommand("stability", "stiff and extreme cases: verdicts and largest stable dt");
-  stability_app->add_option("--backends", stability_backends, "backends: a list, or all");
-  stability_app->add_option("--out", stability.out_dir,
-                            "output folder (default results/stability)");
-  stability_app->add_flag("--force", stability.force,
-                          "replace an empty folder chainmail did not make");
-  stability_app->add_flag("--quick", stability.quick, "tiny sizes (test mode)");
-  stability_app->add_option("--max-wall", stability.max_wall_seconds,
-                            "watchdog per run, s (default 30)");
+  sub->add_option("--backends", flags.backends, "backends: a list, or all");
+  sub->add_option("--out", stability.out_dir, "output folder (default results/stability)");
+  sub->add_flag("--force", stability.force, "replace an empty folder chainmail did not make");
+  sub->add_flag("--quick", stability.quick, "tiny sizes (test mode)");
+  sub->add_option("--max-wall", stability.max_wall_seconds, "watchdog per run, s (default 30)");
+}
 
-  BenchCommand bench;
-  CLI::App* bench_app = app.add_subcommand(
+void add_bench(CLI::App& app, BenchFlags& flags) {
+  chainmail::BenchCommand& bench = flags.command;
+  CLI::App* sub = flags.app = app.add_subcommand(
       "bench", "the default scene set across all backends, writing results/bench");
-  bench_app->add_option("--out", bench.out_dir, "output folder (default results/bench)");
-  bench_app->add_flag("--force", bench.force, "replace an empty folder chainmail did not make");
-  bench_app->add_flag("--quick", bench.quick, "reduced sizes and durations (test mode)");
-  bench_app->add_option("--backends", bench_backends, "backends: a list, or all");
-  bench_app->add_option("--jobs", bench.jobs, "sweep points in parallel")
-      ->check(CLI::Range(1, 256));
-  bool no_render = false;
-  bench_app->add_flag("--no-render", no_render, "skip the side-by-side frames");
+  sub->add_option("--out", bench.out_dir, "output folder (default results/bench)");
+  sub->add_flag("--force", bench.force, "replace an empty folder chainmail did not make");
+  sub->add_flag("--quick", bench.quick, "reduced sizes and durations (test mode)");
+  sub->add_option("--backends", flags.backends, "backends: a list, or all");
+  sub->add_option("--jobs", bench.jobs, "sweep points in parallel")->check(CLI::Range(1, 256));
+  sub->add_flag("--no-render", flags.no_render, "skip the side-by-side frames");
+}
 
+// the exit status when parsing ends the program (help, version, a parse error), else nullopt
+std::optional<int> parse(CLI::App& app, int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -143,47 +172,79 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "chainmail: %s\n", e.what());
-    return kExitBadInput;
+    return chainmail::kExitBadInput;
   }
+  return std::nullopt;
+}
+
+// an --out given empty is a mistake, not a request for the default folder
+void check_out_flag(const CLI::App* sub) {
+  if (!*sub || !sub->count("--out")) return;
+  const std::string out = sub->get_option("--out")->as<std::string>();
+  if (out.find_first_not_of(" \t\r\n") == std::string::npos)
+    throw UsageError("--out: an empty path");
+}
+
+int run_main(RunFlags& flags) {
+  chainmail::RunCommand& run = flags.command;
+  read_backends(flags.app, flags.backends, run.backends);
+  if (!run.render && (flags.app->count("--shader") || flags.app->count("--material")))
+    throw UsageError(std::string(flags.app->count("--shader") ? "--shader" : "--material") +
+                     ": only with --render");
+  check_budget_flags(run.budget);
+  run.progress = !flags.quiet;
+  return chainmail::run_command(run);
+}
+
+int sweep_main(SweepFlags& flags, const char* argv0) {
+  read_backends(flags.app, flags.backends, flags.command.backends);
+  flags.command.executable = self_path(argv0);
+  return chainmail::sweep_command(flags.command);
+}
+
+int stability_main(StabilityFlags& flags) {
+  read_backends(flags.app, flags.backends, flags.command.backends);
+  check_positive("--max-wall", flags.command.max_wall_seconds);
+  return chainmail::stability_command(flags.command);
+}
+
+int bench_main(BenchFlags& flags, const char* argv0) {
+  read_backends(flags.app, flags.backends, flags.command.backends);
+  flags.command.executable = self_path(argv0);
+  flags.command.render = !flags.no_render;
+  return chainmail::bench_command(flags.command);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace chainmail;
+  CLI::App app{"chainmail: a physics comparison harness for interlocking-ring fabric"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", chainmail_version() + " (" + chainmail_commit() + ", " +
+                                        chainmail_build() + ")");
+  RunFlags run_flags;
+  SweepFlags sweep_flags;
+  StabilityFlags stability_flags;
+  BenchFlags bench_flags;
+  add_run(app, run_flags);
+  add_sweep(app, sweep_flags);
+  add_stability(app, stability_flags);
+  add_bench(app, bench_flags);
+  if (const std::optional<int> status = parse(app, argc, argv)) return *status;
 
   install_interrupt_handlers();
   try {
-    // an --out given empty is a mistake, not a request for the default folder
-    for (CLI::App* sub : {run_app, sweep_app, stability_app, bench_app}) {
-      if (*sub && sub->count("--out")) {
-        const std::string out = sub->get_option("--out")->as<std::string>();
-        if (out.find_first_not_of(" \t\r\n") == std::string::npos)
-          throw SceneError("--out: an empty path");
-      }
-    }
-    if (*run_app) {
-      if (run_app->count("--backends")) run.backends = backend_list("--backends", run_backends);
-      if (!run.render && (run_app->count("--shader") || run_app->count("--material")))
-        throw SceneError(std::string(run_app->count("--shader") ? "--shader" : "--material") +
-                         ": only with --render");
-      check_budget_flags(run.budget);
-      run.progress = !run_quiet;
-      return run_command(run);
-    }
-    if (*sweep_app) {
-      if (sweep_app->count("--backends"))
-        sweep.backends = backend_list("--backends", sweep_backends);
-      sweep.executable = self_path(argv[0]);
-      return sweep_command(sweep);
-    }
-    if (*stability_app) {
-      if (stability_app->count("--backends"))
-        stability.backends = backend_list("--backends", stability_backends);
-      check_positive("--max-wall", stability.max_wall_seconds);
-      return stability_command(stability);
-    }
-    if (*bench_app) {
-      if (bench_app->count("--backends"))
-        bench.backends = backend_list("--backends", bench_backends);
-      bench.executable = self_path(argv[0]);
-      bench.render = !no_render;
-      return bench_command(bench);
-    }
+    for (const CLI::App* sub :
+         {run_flags.app, sweep_flags.app, stability_flags.app, bench_flags.app})
+      check_out_flag(sub);
+    if (*run_flags.app) return run_main(run_flags);
+    if (*sweep_flags.app) return sweep_main(sweep_flags, argv[0]);
+    if (*stability_flags.app) return stability_main(stability_flags);
+    if (*bench_flags.app) return bench_main(bench_flags, argv[0]);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "chainmail: %s\n", e.what());
+    return kExitBadInput;
   } catch (const SceneError& e) {
     std::fprintf(stderr, "chainmail: %s\n", e.what());
     return kExitBadInput;

@@ -205,4 +205,29 @@ double drape_coefficient(const RingFrame& frame, const RingFrame& flat, const Su
   return (shadow - support_area) / (flat_area - support_area);
 }
 
+std::optional<double> catenary_error(const Scene& scene, const Weave& weave,
+                                     const RingFrame& frame) {
+  if (weave.type != WeaveType::chain) return std::nullopt;
+  const std::vector<int> pins = resolve_pins(scene, weave);
+  const int n = weave.size();
+  if (pins.size() != 2 || pins[0] != 0 || pins[1] != n - 1) return std::nullopt;
+  const Vec3 down = scene.gravity.normalized();
+  const Vec3 p0 = weave.rest_position.col(0), p1 = weave.rest_position.col(n - 1);
+  if (std::abs((p1 - p0).dot(down)) > 1e-9) return std::nullopt;  // pins at equal height only
+  const double span = (p1 - p0).norm();
+  const double length = (n - 1) * scene.ring.max_link_distance();
+  if (length <= span) return std::nullopt;
+  // catenary parameter A from length = 2 A sinh(span / 2A), by bisection on A
+  double lo = 1e-9 * span, hi = 1e6 * span;
+  for (int it = 0; it < 200; ++it) {
+    const double mid = std::sqrt(lo * hi);
+    (2.0 * mid * std::sinh(span / (2.0 * mid)) > length ? lo : hi) = mid;
+  }
+  const double a = std::sqrt(lo * hi);
+  const double expected = a * (std::cosh(span / (2.0 * a)) - 1.0);
+  double sag = 0.0;
+  for (int i = 0; i < n; ++i) sag = std::max(sag, (frame.position.col(i) - p0).dot(down));
+  return std::abs(sag - expected) / expected;
+}
+
 }  // namespace chainmail

@@ -51,4 +51,10 @@ double projected_area(const RingFrame& frame, double centre_radius, double cell)
 double drape_coefficient(const RingFrame& frame, const RingFrame& flat, const Support& support,
                          double centre_radius);
 
+// relative error of a chain's sag against the catenary of the same span and length
+// (length = links x 2(c - a)); absent unless the scene is a chain pinned at both ends at equal
+// height
+std::optional<double> catenary_error(const Scene& scene, const Weave& weave,
+                                     const RingFrame& frame);
+
 }  // namespace chainmail

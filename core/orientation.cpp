@@ -128,8 +128,8 @@ void orient_rings(const Positions& position, const Weave& weave, const RingGeome
   }
 
   const double min_ratio = ring.min_link_distance() / settings.max_link_distance;
-  const double extended = settings.extended_angle > 0.0 ? settings.extended_angle
-                                                        : ring.wire_radius / ring.centre_radius;
+  const double extended =
+      settings.extended_angle > 0.0 ? settings.extended_angle : paper_extended_swivel(ring);
   for (int i = 0; i < n; ++i) {
     const auto& nb = weave.neighbours[i];
     const Quat old = quat_at(orientation, i);

@@ -19,6 +19,11 @@ Mat3 basis_from_unit_axes(const Vec3& xn, const Vec3& zn, const Vec3& y);
 // compressed (ratio = min_ratio), ratio = mean neighbour distance / maximum link distance
 double swivel_angle(double ratio, double min_ratio, double extended_angle);
 
+// the paper's swivel at full extension, a/c (rad): the default wherever none is given
+inline double paper_extended_swivel(const RingGeometry& ring) {
+  return ring.wire_radius / ring.centre_radius;
+}
+
 // the swivel at full extension that leaves the most wire clearance between a ring and its grid
 // neighbours when all four sit at `max_link_distance` along orthogonal axes, each swivelled the
 // other way (the 4-in-1 pattern at full extension), searched over [0, pi/2] among angles that keep

@@ -56,7 +56,7 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   model_.edges = colour_ordered_edges(weave, ring.min_link_distance(), max_length);
   model_.extended_swivel = settings.swivel_fit            ? fitted_extended_swivel(ring, max_length)
                            : settings.swivel_extended > 0 ? settings.swivel_extended
-                                                          : ring.wire_radius / ring.centre_radius;
+                                                          : paper_extended_swivel(ring);
   // breadth-first depth from the pins orders the outward pass
   {
     std::vector<int> depth(n, -1), queue;
@@ -88,7 +88,7 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   model_.contact_margin =
       settings.contact_margin > 0.0
           ? settings.contact_margin
-          : ring.wire_radius + ring.centre_radius * std::sin(ring.wire_radius / ring.centre_radius);
+          : ring.wire_radius + ring.centre_radius * std::sin(paper_extended_swivel(ring));
 
   // state at rest
   state_ = PlausibleState{};

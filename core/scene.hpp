@@ -1,13 +1,12 @@
-// Scene: one description of one experiment, shared by every backend.
-// Loaded from JSON, validated completely before anything runs (see docs/scene-file.md).
+// Scene: one description of one experiment, shared by every backend. Plain structs: scene files
+// are read, validated and written by bench/harness/scene_file.hpp (see docs/scene-file.md).
 #pragma once
 
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "core/ring.hpp"
 #include "core/types.hpp"
@@ -47,12 +46,13 @@ struct PinSpec {
 struct Collider {
   enum class Type { plane, sphere, box, cylinder };
   Type type = Type::plane;
-  Vec3 center = Vec3::Zero();        // m; plane: a point on it
-  Vec3 normal = Vec3::UnitY();       // plane only, unit
-  double radius = 0.0;               // sphere, cylinder; m
-  Vec3 half_extents = Vec3::Zero();  // box; m (axis aligned)
-  double half_height = 0.0;          // cylinder (axis along world y); m
-  double friction = 0.3;             // Coulomb coefficient
+  Vec3 center = Vec3::Zero();         // m; plane: a point on it
+  Vec3 normal = Vec3::UnitY();        // plane only, unit
+  Vec3 given_normal = Vec3::UnitY();  // plane: the normal as the scene gave it (any length)
+  double radius = 0.0;                // sphere, cylinder; m
+  Vec3 half_extents = Vec3::Zero();   // box; m (axis aligned)
+  double half_height = 0.0;           // cylinder (axis along world y); m
+  double friction = 0.3;              // Coulomb coefficient
 };
 
 // the table under a draped sheet, for Cusick's drape coefficient (a disk in the x/z plane)
@@ -81,12 +81,25 @@ struct StabilityBounds {
   double energy_growth = 1.5;   // total energy may not exceed this factor of its start + input
 };
 
+// one knob as the scene file gives it under backends.<backend>.<knob>; its kind and range are
+// checked against the backend's knob table by backends/registry
+struct KnobValue {
+  enum class Kind { number, integer, boolean, other };  // other: a string, array, object or null
+  Kind kind = Kind::number;
+  double value = 0.0;  // booleans 0/1; other: 0
+};
+// knob name -> value, for one backend
+using KnobSection = std::map<std::string, KnobValue>;
+
 struct Scene {
   std::string name;
   std::string description;
   std::string file;  // where it came from, for messages
 
   RingGeometry ring;
+  // m, the inner diameter as the scene gave it (0: not given): 2(c - a) can differ from it in the
+  // last bit, and a written scene must read back to the same ring
+  double ring_inner_diameter = 0.0;
   double ring_friction = 0.3;  // ring-ring Coulomb coefficient
   WeaveSpec weave;
   std::vector<PinSpec> pins;
@@ -104,34 +117,16 @@ struct Scene {
   std::string reference = "bullet";  // backend whose run drape_rms is measured against
   double reference_dt = 0.0;         // s, the reference run's dt; 0 = that backend's dt here
 
-  nlohmann::json backends = nlohmann::json::object();  // per-backend knobs, validated by backends/
-  nlohmann::json resolved;                             // the whole scene with defaults filled in
+  std::map<std::string, KnobSection> backends;  // backend name -> its knobs as written
 };
 
-// limits on scene text (docs/scene-file.md). Nesting deeper than kMaxJsonDepth containers
-// is refused while parsing, before anything recursive (copy, dump, compare) could overflow the
-// stack; a file larger than kMaxSceneFileBytes is refused without reading it all
-inline constexpr int kMaxJsonDepth = 64;
-inline constexpr long long kMaxSceneFileBytes = 16LL << 20;  // 16 MiB
 // smallest length (m: ring diameters, grid spacing, collider and support sizes) and density
 // (kg/m^3) a scene may give: ring mass, inertia and areas stay normal finite doubles
 inline constexpr double kMinLength = 1e-6;
 inline constexpr double kMinDensity = 1.0;
 
-// strict JSON for scene text, comments allowed: refuses duplicate keys, numbers beyond double
-// range and nesting deeper than kMaxJsonDepth. Throws SceneError "<source>: key '<path>': <what>"
-// or "<source>: JSON syntax error at line L, column C: ..."; never a nlohmann exception
-nlohmann::json parse_json_strict(const std::string& text, const std::string& source);
-
-// parse + validate; throws SceneError naming file and key
-Scene load_scene_file(const std::string& path, const std::vector<std::string>& overrides = {});
-Scene scene_from_json(const nlohmann::json& document, const std::string& file);
-// apply one "dotted.key=value" override to a raw scene document; throws SceneError. The value is
-// strict JSON when it parses as JSON (1e400 and duplicate keys are errors), else a plain string
-void apply_override(nlohmann::json& document, const std::string& assignment,
-                    const std::string& file);
-
 const char* to_string(WeaveType type);
+const char* to_string(SheetPlane plane);
 const char* to_string(Collider::Type type);
 
 }  // namespace chainmail

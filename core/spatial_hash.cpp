@@ -25,7 +25,7 @@ void SpatialHash::build(const Positions& points, double cell_size, int table_siz
     finite.push_back(i);
   }
 
-  // dense when the box holds at most 8 cells per point (and always for tiny sets)
+  // dense when the box holds at most 32 cells per point, or at most 4096 cells in all (small sets)
   std::int64_t cells = 1;
   for (int a = 0; a < 3; ++a) {
     origin_[a] = lo[a];

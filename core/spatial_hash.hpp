@@ -32,20 +32,21 @@ inline std::uint64_t hash_cell(std::int64_t x, std::int64_t y, std::int64_t z) {
 }
 
 // Two layouts behind one interface, chosen per build from the points' extent:
-//  - dense: when the bounding box holds at most a few cells per point (a sheet, a pile), cells
-//    are a plain 3-D array with z fastest, so the three cells along z of a neighbourhood row are
-//    one contiguous run of sorted points: a half-shell query reads 5 runs instead of 14 cells;
+//  - dense: when the bounding box holds at most 32 cells per point, or at most 4096 cells in all
+//    (a sheet, a pile, a small set), cells are a plain 3-D array with z fastest, so the three
+//    cells along z of a neighbourhood row are one contiguous run of sorted points: a half-shell
+//    query reads 5 runs instead of 14 cells;
 //  - hashed: otherwise (points spread far apart), cells go through mix_cell into a power-of-two
 //    table and every candidate is checked against its packed cell key (hash collisions).
 // Non-finite points are in no cell: they are never visited and never visit.
 class SpatialHash {
  public:
   // cell_size should be at least the query radius; the hashed table has a power-of-two size of
-  // at least table_size buckets (0: twice the point count)
+  // at least table_size buckets (0: twice the point count), and never fewer than 64
   void build(const Positions& points, double cell_size, int table_size = 0);
 
-  // calls visit(j) for every point j > i (or every j != i when all_pairs) within `radius` of point
-  // i
+  // calls visit(j) for every point j > i within `radius` of point i (radius <= cell size), so
+  // that calling it for every i meets each pair once
   template <class Visit>
   void for_each_near(const Positions& points, int i, double radius, Visit&& visit) const;
   // every unordered pair (i < j) closer than `radius`, each once; radius <= cell size

@@ -2,6 +2,7 @@
 
 #include <dlfcn.h>
 
+#include <cstdio>
 #include <cstring>
 #include <vector>
 
@@ -35,6 +36,22 @@ using OsmesaCreateContextAttribs = OsmesaContext (*)(const int*, OsmesaContext);
 using OsmesaDestroyContext = void (*)(OsmesaContext);
 using OsmesaMakeCurrent = unsigned char (*)(OsmesaContext, void*, GLenum, GLsizei, GLsizei);
 using OsmesaGetProcAddress = OsmesaProc (*)(const char*);
+// core profile 3.3; the tiny default buffer is never drawn into (all drawing goes to FBOs)
+constexpr int kOsmesaCoreAttributes[] = {kOsmesaFormat,
+                                         GL_RGBA,
+                                         kOsmesaDepthBits,
+                                         24,
+                                         kOsmesaStencilBits,
+                                         0,
+                                         kOsmesaAccumBits,
+                                         0,
+                                         kOsmesaProfile,
+                                         kOsmesaCoreProfile,
+                                         kOsmesaMajor,
+                                         3,
+                                         kOsmesaMinor,
+                                         3,
+                                         0};
 
 // dlopen the first library of `names` that loads; records why each failed
 void* open_library(const std::vector<std::string>& names, std::string& why) {
@@ -86,23 +103,7 @@ class OsmesaGlContext final : public GlContext {
       why = "libOSMesa lacks OSMesaCreateContextAttribs (needs Mesa >= 12)";
       return nullptr;
     }
-    // core profile 3.3; the tiny default buffer is never drawn into (all drawing goes to FBOs)
-    const int attributes[] = {kOsmesaFormat,
-                              GL_RGBA,
-                              kOsmesaDepthBits,
-                              24,
-                              kOsmesaStencilBits,
-                              0,
-                              kOsmesaAccumBits,
-                              0,
-                              kOsmesaProfile,
-                              kOsmesaCoreProfile,
-                              kOsmesaMajor,
-                              3,
-                              kOsmesaMinor,
-                              3,
-                              0};
-    OsmesaContext context = create(attributes, nullptr);
+    OsmesaContext context = create(kOsmesaCoreAttributes, nullptr);
     if (!context) {
       why = "OSMesaCreateContextAttribs could not make a 3.3 core context";
       return nullptr;
@@ -142,92 +143,17 @@ class OsmesaGlContext final : public GlContext {
 
 class EglGlContext final : public GlContext {
  public:
+  // returns null and fills `why` when EGL surfaceless is unavailable
   static std::unique_ptr<EglGlContext> make(const std::string& library, std::string& why) {
     const std::vector<std::string> names =
         library.empty() ? std::vector<std::string>{"libEGL.so.1", "libEGL.so"}
                         : std::vector<std::string>{library};
     void* handle = open_library(names, why);
     if (!handle) return nullptr;
-    auto get_proc = symbol<PFNEGLGETPROCADDRESSPROC>(handle, "eglGetProcAddress");
-    auto query_string = symbol<PFNEGLQUERYSTRINGPROC>(handle, "eglQueryString");
-    if (!get_proc || !query_string) {
-      why = "libEGL lacks eglGetProcAddress";
-      return nullptr;
-    }
     auto result = std::unique_ptr<EglGlContext>(new EglGlContext);
     EglGlContext& e = *result;
-#define CHAINMAIL_EGL_LOAD(type, member, name)          \
-  e.member = reinterpret_cast<type>(get_proc(name));    \
-  if (!e.member) e.member = symbol<type>(handle, name); \
-  if (!e.member) {                                      \
-    why = "libEGL lacks " name;                         \
-    return nullptr;                                     \
-  }
-    CHAINMAIL_EGL_LOAD(PFNEGLINITIALIZEPROC, initialize_, "eglInitialize")
-    CHAINMAIL_EGL_LOAD(PFNEGLTERMINATEPROC, terminate_, "eglTerminate")
-    CHAINMAIL_EGL_LOAD(PFNEGLBINDAPIPROC, bind_api_, "eglBindAPI")
-    CHAINMAIL_EGL_LOAD(PFNEGLCHOOSECONFIGPROC, choose_config_, "eglChooseConfig")
-    CHAINMAIL_EGL_LOAD(PFNEGLCREATECONTEXTPROC, create_context_, "eglCreateContext")
-    CHAINMAIL_EGL_LOAD(PFNEGLDESTROYCONTEXTPROC, destroy_context_, "eglDestroyContext")
-    CHAINMAIL_EGL_LOAD(PFNEGLMAKECURRENTPROC, make_current_, "eglMakeCurrent")
-#undef CHAINMAIL_EGL_LOAD
-
-    // the surfaceless platform needs no window system and no GPU (Mesa falls back to llvmpipe)
-    const char* client = query_string(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-    if (!client || !std::strstr(client, "EGL_MESA_platform_surfaceless")) {
-      why = "EGL has no EGL_MESA_platform_surfaceless";
-      return nullptr;
-    }
-    auto get_platform_display =
-        reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(get_proc("eglGetPlatformDisplayEXT"));
-    if (!get_platform_display) {
-      why = "EGL lacks eglGetPlatformDisplayEXT";
-      return nullptr;
-    }
-    e.display_ = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-    EGLint major = 0, minor = 0;
-    if (e.display_ == EGL_NO_DISPLAY || !e.initialize_(e.display_, &major, &minor)) {
-      why = "eglInitialize failed on the surfaceless platform";
-      e.display_ = EGL_NO_DISPLAY;
-      return nullptr;
-    }
-    if (!e.bind_api_(EGL_OPENGL_API)) {
-      why = "eglBindAPI(EGL_OPENGL_API) failed";
-      return nullptr;
-    }
-    const char* display_extensions = query_string(e.display_, EGL_EXTENSIONS);
-    if (!display_extensions || !std::strstr(display_extensions, "EGL_KHR_surfaceless_context")) {
-      why = "EGL display has no EGL_KHR_surfaceless_context";
-      return nullptr;
-    }
-    const EGLint config_attributes[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE,
-                                        EGL_DONT_CARE, EGL_NONE};
-    EGLConfig config = nullptr;
-    EGLint count = 0;
-    if (!e.choose_config_(e.display_, config_attributes, &config, 1, &count) || count < 1) {
-      why = "eglChooseConfig found no OpenGL config";
-      return nullptr;
-    }
-    const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
-                                         3,
-                                         EGL_CONTEXT_MINOR_VERSION,
-                                         3,
-                                         EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                         EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                                         EGL_NONE};
-    e.context_ = e.create_context_(e.display_, config, EGL_NO_CONTEXT, context_attributes);
-    if (e.context_ == EGL_NO_CONTEXT) {
-      why = "eglCreateContext could not make a 3.3 core context";
-      return nullptr;
-    }
-    if (!e.make_current_(e.display_, EGL_NO_SURFACE, EGL_NO_SURFACE, e.context_)) {
-      why = "eglMakeCurrent (surfaceless) failed";
-      return nullptr;
-    }
-    std::string missing;
-    if (!load_api(
-            e.api_, [&](const char* name) { return get_proc(name); }, missing)) {
-      why = "EGL context lacks " + missing;
+    if (!e.load_entry_points(handle, why) || !e.open_surfaceless_display(why) ||
+        !e.create_core_context(why) || !e.make_current_and_load_gl(why)) {
       return nullptr;
     }
     return result;
@@ -239,14 +165,113 @@ class EglGlContext final : public GlContext {
     if (context_ != EGL_NO_CONTEXT) destroy_context_(display_, context_);
     terminate_(display_);
   }
-  std::string name() const override {
-    return "egl";
-  }
+  std::string name() const override { return "egl"; }
 
  private:
   EglGlContext() = default;
+
+  // the EGL entry points, through eglGetProcAddress or else the library's own symbols
+  bool load_entry_points(void* handle, std::string& why) {
+    get_proc_ = symbol<PFNEGLGETPROCADDRESSPROC>(handle, "eglGetProcAddress");
+    query_string_ = symbol<PFNEGLQUERYSTRINGPROC>(handle, "eglQueryString");
+    if (!get_proc_ || !query_string_) {
+      why = "libEGL lacks eglGetProcAddress";
+      return false;
+    }
+#define CHAINMAIL_EGL_LOAD(type, member, name)      \
+  member = reinterpret_cast<type>(get_proc_(name)); \
+  if (!member) member = symbol<type>(handle, name); \
+  if (!member) {                                    \
+    why = "libEGL lacks " name;                     \
+    return false;                                   \
+  }
+    CHAINMAIL_EGL_LOAD(PFNEGLINITIALIZEPROC, initialize_, "eglInitialize")
+    CHAINMAIL_EGL_LOAD(PFNEGLTERMINATEPROC, terminate_, "eglTerminate")
+    CHAINMAIL_EGL_LOAD(PFNEGLBINDAPIPROC, bind_api_, "eglBindAPI")
+    CHAINMAIL_EGL_LOAD(PFNEGLCHOOSECONFIGPROC, choose_config_, "eglChooseConfig")
+    CHAINMAIL_EGL_LOAD(PFNEGLCREATECONTEXTPROC, create_context_, "eglCreateContext")
+    CHAINMAIL_EGL_LOAD(PFNEGLDESTROYCONTEXTPROC, destroy_context_, "eglDestroyContext")
+    CHAINMAIL_EGL_LOAD(PFNEGLMAKECURRENTPROC, make_current_, "eglMakeCurrent")
+#undef CHAINMAIL_EGL_LOAD
+    return true;
+  }
+
+  // the surfaceless platform needs no window system and no GPU (Mesa falls back to llvmpipe)
+  bool open_surfaceless_display(std::string& why) {
+    const char* client = query_string_(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    if (!client || !std::strstr(client, "EGL_MESA_platform_surfaceless")) {
+      why = "EGL has no EGL_MESA_platform_surfaceless";
+      return false;
+    }
+    auto get_platform_display =
+        reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(get_proc_("eglGetPlatformDisplayEXT"));
+    if (!get_platform_display) {
+      why = "EGL lacks eglGetPlatformDisplayEXT";
+      return false;
+    }
+    display_ = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+    EGLint major = 0, minor = 0;
+    if (display_ == EGL_NO_DISPLAY || !initialize_(display_, &major, &minor)) {
+      why = "eglInitialize failed on the surfaceless platform";
+      display_ = EGL_NO_DISPLAY;
+      return false;
+    }
+    if (!bind_api_(EGL_OPENGL_API)) {
+      why = "eglBindAPI(EGL_OPENGL_API) failed";
+      return false;
+    }
+    const char* display_extensions = query_string_(display_, EGL_EXTENSIONS);
+    if (!display_extensions || !std::strstr(display_extensions, "EGL_KHR_surfaceless_context")) {
+      why = "EGL display has no EGL_KHR_surfaceless_context";
+      return false;
+    }
+    return true;
+  }
+
+  // an OpenGL 3.3 core context on any config (it never draws to a surface)
+  bool create_core_context(std::string& why) {
+    const EGLint config_attributes[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE,
+                                        EGL_DONT_CARE, EGL_NONE};
+    EGLConfig config = nullptr;
+    EGLint count = 0;
+    if (!choose_config_(display_, config_attributes, &config, 1, &count) || count < 1) {
+      why = "eglChooseConfig found no OpenGL config";
+      return false;
+    }
+    const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                         3,
+                                         EGL_CONTEXT_MINOR_VERSION,
+                                         3,
+                                         EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                         EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                         EGL_NONE};
+    context_ = create_context_(display_, config, EGL_NO_CONTEXT, context_attributes);
+    if (context_ == EGL_NO_CONTEXT) {
+      why = "eglCreateContext could not make a 3.3 core context";
+      return false;
+    }
+    return true;
+  }
+
+  bool make_current_and_load_gl(std::string& why) {
+    if (!make_current_(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_)) {
+      why = "eglMakeCurrent (surfaceless) failed";
+      return false;
+    }
+    std::string missing;
+    const PFNEGLGETPROCADDRESSPROC get_proc = get_proc_;
+    if (!load_api(
+            api_, [&](const char* name) { return get_proc(name); }, missing)) {
+      why = "EGL context lacks " + missing;
+      return false;
+    }
+    return true;
+  }
+
   EGLDisplay display_ = EGL_NO_DISPLAY;
   EGLContext context_ = EGL_NO_CONTEXT;
+  PFNEGLGETPROCADDRESSPROC get_proc_ = nullptr;
+  PFNEGLQUERYSTRINGPROC query_string_ = nullptr;
   PFNEGLINITIALIZEPROC initialize_ = nullptr;
   PFNEGLTERMINATEPROC terminate_ = nullptr;
   PFNEGLBINDAPIPROC bind_api_ = nullptr;
@@ -277,6 +302,20 @@ std::unique_ptr<GlContext> create_context(const ContextOptions& options) {
   }
   throw RenderError("render: no OpenGL available, could not create a headless GL 3.3 context (" +
                     attempts + ")");
+}
+
+void check_gl(const GlApi& gl, const char* what) {
+  if (const GLenum error = gl.GetError(); error != GL_NO_ERROR) {
+    char code[16];
+    std::snprintf(code, sizeof(code), "0x%04x", error);
+    throw RenderError(std::string("render: GL error ") + code + " while " + what);
+  }
+}
+
+void check_framebuffer(const GlApi& gl, const char* what) {
+  if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    throw RenderError(std::string("render: incomplete framebuffer for ") + what);
+  }
 }
 
 }  // namespace chainmail::render

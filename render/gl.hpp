@@ -110,4 +110,9 @@ struct ContextOptions {
 // throws RenderError: unknown kind, or no context could be made (the message lists every attempt)
 std::unique_ptr<GlContext> create_context(const ContextOptions& options);
 
+// throw RenderError naming `what` when GL has recorded an error, or when the bound framebuffer is
+// incomplete
+void check_gl(const GlApi& gl, const char* what);
+void check_framebuffer(const GlApi& gl, const char* what);
+
 }  // namespace chainmail::render

@@ -24,6 +24,20 @@ int label_strip_height(int height) {
   return std::clamp(height / 16, 9, 28);
 }
 
+std::string panel_label(const Panel& panel) {
+  std::string label = panel.label;
+  char buffer[96];
+  if (panel.frame) {
+    std::snprintf(buffer, sizeof(buffer), "  t = %.3f s", panel.frame->t);
+    label += buffer;
+  }
+  if (panel.ms_per_step >= 0.0) {
+    std::snprintf(buffer, sizeof(buffer), "  %.3f ms/step", panel.ms_per_step);
+    label += buffer;
+  }
+  return label;
+}
+
 void draw_label(Image& image, const std::string& text) {
   // stb_easy_font glyphs are 7 px tall (plus descenders); scale them to the strip
   const int strip = std::min(label_strip_height(image.height), image.height);

@@ -12,6 +12,8 @@ namespace chainmail::render {
 int label_strip_height(int height);
 // darkens a strip at the top of `image` and writes `text` into it in white
 void draw_label(Image& image, const std::string& text);
+// a panel's label text: its name, then the frame's time and the backend's ms per step when known
+std::string panel_label(const Panel& panel);
 // panels of equal height, left to right
 Image compose_horizontal(const std::vector<Image>& panels);
 

@@ -1,6 +1,7 @@
 #include "render/mesh.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -161,97 +162,6 @@ Mesh box_mesh() {
                                   {first, first + 1, first + 2, first, first + 2, first + 3});
             });
   return mesh;
-}
-
-int lod_for_pixels(double diameter_pixels) {
-  for (int level = 0; level < kLodLevels - 1; ++level) {
-    if (diameter_pixels >= kLodMinPixels[level]) return level;
-  }
-  return kLodLevels - 1;
-}
-
-double CameraView::focal_pixels(int height) const {
-  return 0.5 * height / std::tan(0.5 * fov_y_rad);
-}
-
-Eigen::Matrix4f CameraView::view_projection(const Vector3d& origin) const {
-  const Vector3d f = forward(), r = right(), u = true_up();
-  const Vector3d e = eye - origin;
-  Eigen::Matrix4d view = Eigen::Matrix4d::Identity();
-  view.row(0) << r.transpose(), -r.dot(e);
-  view.row(1) << u.transpose(), -u.dot(e);
-  view.row(2) << -f.transpose(), f.dot(e);
-  const double t = 1.0 / std::tan(0.5 * fov_y_rad);
-  const double n = near_plane, fa = far_plane;
-  Eigen::Matrix4d projection = Eigen::Matrix4d::Zero();
-  projection(0, 0) = t / aspect;
-  projection(1, 1) = t;
-  projection(2, 2) = -(fa + n) / (fa - n);
-  projection(2, 3) = -2.0 * fa * n / (fa - n);
-  projection(3, 2) = -1.0;
-  return (projection * view).cast<float>();
-}
-
-void Bounds::add(const Vector3d& p) {
-  if (!p.allFinite()) return;
-  min = min.cwiseMin(p);
-  max = max.cwiseMax(p);
-}
-
-Bounds frame_bounds(const std::vector<const RingFrame*>& frames) {
-  Bounds bounds;
-  for (const RingFrame* frame : frames) {
-    if (!frame) continue;
-    for (int ring = 0; ring < frame->size(); ++ring) bounds.add(frame->position.col(ring));
-  }
-  return bounds;
-}
-
-CameraView make_camera(const Scene& scene, const Bounds& bounds, double aspect) {
-  CameraView view;
-  view.aspect = aspect;
-  view.fov_y_rad = scene.camera.fov_deg * kPi / 180.0;
-  const double ring_extent = scene.ring.centre_radius + scene.ring.wire_radius;
-  const Vector3d center = bounds.empty() ? scene.weave.center : bounds.center();
-  const double radius = std::max(bounds.radius(), 0.0) + ring_extent;
-
-  if (scene.camera.automatic) {
-    // look down ~30 degrees from the front; back off until every corner of the (ring-padded)
-    // box is inside the view with a margin: for a corner at (x, y) across and z towards the
-    // camera, depth d - z must reach |x| / tan(fov_x / 2) and |y| / tan(fov_y / 2)
-    const Vector3d to_eye = Vector3d(0.0, 0.6, 1.0).normalized();
-    const Vector3d across = Vector3d::UnitY().cross(to_eye).normalized();
-    const Vector3d upward = to_eye.cross(across);
-    const double margin = 0.92;
-    const double tan_y = margin * std::tan(0.5 * view.fov_y_rad), tan_x = tan_y * aspect;
-    double distance = radius;
-    const Vector3d lo = bounds.empty() ? center : Vector3d(bounds.min),
-                   hi = bounds.empty() ? center : Vector3d(bounds.max);
-    for (int corner = 0; corner < 8; ++corner) {
-      const Vector3d p((corner & 1 ? hi.x() : lo.x()) + (corner & 1 ? 1 : -1) * ring_extent,
-                       (corner & 2 ? hi.y() : lo.y()) + (corner & 2 ? 1 : -1) * ring_extent,
-                       (corner & 4 ? hi.z() : lo.z()) + (corner & 4 ? 1 : -1) * ring_extent);
-      const Vector3d r = p - center;
-      const double z = r.dot(to_eye);
-      distance = std::max(
-          {distance, z + std::abs(r.dot(across)) / tan_x, z + std::abs(r.dot(upward)) / tan_y});
-    }
-    view.target = center;
-    view.eye = center + distance * to_eye;
-  } else {
-    view.eye = scene.camera.position;
-    view.target = scene.camera.target;
-  }
-  // world up, unless the camera looks straight up or down
-  const Vector3d forward = (view.target - view.eye).normalized();
-  view.up = Vector3d::UnitY();
-  if (std::abs(forward.y()) > 0.999) view.up = Vector3d(0.0, 0.0, forward.y() < 0 ? -1.0 : 1.0);
-
-  // depth range: everything within a few fabric radii of the fabric's centre
-  const double distance = (view.eye - center).norm();
-  view.near_plane = std::max(distance - 1.5 * radius, 0.005 * distance);
-  view.far_plane = distance + 5.0 * radius;
-  return view;
 }
 
 Mesh cloth_mesh(const RingFrame& frame, const Weave& weave, int subdivisions,

@@ -13,7 +13,7 @@
 #include "core/frame.hpp"
 #include "core/scene.hpp"
 #include "core/weave.hpp"
-#include "render/mesh.hpp"
+#include "render/scene_view.hpp"
 
 namespace chainmail::render {
 

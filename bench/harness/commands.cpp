@@ -3,10 +3,13 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "bench/harness/backend_names.hpp"
 #include "bench/harness/output.hpp"
 #include "bench/harness/output_folder.hpp"
 #include "bench/harness/render_output.hpp"
 #include "bench/harness/run.hpp"
+#include "bench/harness/scene_file.hpp"
+#include "bench/harness/usage_error.hpp"
 
 namespace chainmail {
 
@@ -20,31 +23,64 @@ std::string default_cache_dir() {
 }
 
 std::string resolve_cache_dir(const std::string& flag) {
-  if (flag == "none") return "";
+  if (flag == kNoCache) return "";
   return flag.empty() ? default_cache_dir() : flag;
 }
 
-int run_command(const RunCommand& command) {
-  // everything that can be bad input is checked before anything runs or is written
-  Scene scene = load_scene_file(command.scene_file, command.overrides);
-  validate_backend_knobs(scene);
+namespace {
+
+// --reference: "" (the scene's), none, or a backend built into this binary
+void check_reference_flag(const std::string& reference) {
+  if (reference.empty() || reference == kNoReference || find_backend(reference)) return;
+  if (backend_known_unbuilt(reference)) {
+    throw UsageError("--reference: " + reference + " is not built into this binary (built: " +
+                     join_names(built_backend_names()) + ")");
+  }
+  throw UsageError("--reference: unknown backend '" + reference + "' (or none)");
+}
+
+// the run's options from the command line and the scene (the folder is set once it is claimed)
+RunOptions run_options(const RunCommand& command, const Scene& scene) {
   RunOptions options;
   options.backends = select_backends(scene, command.backends);
   options.progress = command.progress;
   options.cache_dir = resolve_cache_dir(command.cache_dir);
+  check_reference_flag(command.reference);
   options.reference = command.reference;
-  if (!options.reference.empty() && options.reference != "none" &&
-      !find_backend(options.reference)) {
-    throw SceneError("--reference: unknown backend '" + options.reference + "' (or none)");
-  }
   options.frame_csv = command.frames || scene.write_frames;
   options.keep_stream = command.render;
+  return options;
+}
+
+// refuse a run estimated to need more memory, time or frame output than the budget allows
+void check_run_budget(const Scene& scene, const RunOptions& options, const Budget& budget) {
   std::vector<std::string> estimated = options.backends;
   if (const std::string ref = reference_backend(scene, options); !ref.empty())
     estimated.push_back(ref);  // at worst it runs once more, uncached
   const double bytes_per_ring_sample =
       (options.frame_csv ? 90.0 : 0.0) + (options.keep_stream ? 56.0 : 0.0);
-  check_budget(scene, estimate_run(scene, estimated, bytes_per_ring_sample), command.budget);
+  check_budget(scene, estimate_run(scene, estimated, bytes_per_ring_sample), budget);
+}
+
+// one line per backend, then where the results are
+void print_run_lines(const SceneRun& run, const std::string& path) {
+  for (const auto& b : run.runs) {
+    std::fprintf(stderr, "%-10s %8.3f ms/step  x%-8.2f real time  %s  hash %016llx\n",
+                 b.name.c_str(), b.ms_per_step(), b.realtime_factor(), to_string(b.verdict),
+                 static_cast<unsigned long long>(b.hash));
+  }
+  std::fprintf(stderr, "wrote %s%s\n", path.c_str(),
+               run.interrupted ? " (interrupted: what finished)" : "");
+}
+
+}  // namespace
+
+int run_command(const RunCommand& command) {
+  // everything that can be bad input is checked before anything runs or is written
+  Scene scene = load_scene_file(command.scene_file, command.overrides);
+  validate_backend_knobs(scene);
+  RunOptions options = run_options(command, scene);
+  check_run_budget(scene, options, command.budget);
   OutputOptions output;
   if (command.render)
     output.render =
@@ -58,13 +94,7 @@ int run_command(const RunCommand& command) {
   write_run_folder(run, folder.staging(), output);
   folder.commit();
 
-  for (const auto& b : run.runs) {
-    std::fprintf(stderr, "%-10s %8.3f ms/step  x%-8.2f real time  %s  hash %016llx\n",
-                 b.name.c_str(), b.ms_per_step(), b.realtime_factor(), b.verdict.c_str(),
-                 static_cast<unsigned long long>(b.hash));
-  }
-  std::fprintf(stderr, "wrote %s%s\n", path.c_str(),
-               run.interrupted ? " (interrupted: what finished)" : "");
+  print_run_lines(run, path);
   if (run.interrupted) return kExitInterrupted;
   return run.all_stable() ? kExitOk : kExitUnstable;
 }

@@ -16,6 +16,9 @@ inline constexpr int kExitBadInput = 2;
 inline constexpr int kExitInternal = 3;
 inline constexpr int kExitInterrupted = 130;
 
+// --cache none: no reference-run cache
+inline constexpr const char* kNoCache = "none";
+
 // the reference-run cache: $CHAINMAIL_CACHE_DIR, else $XDG_CACHE_HOME/chainmail, else
 // ~/.cache/chainmail ("" when none of them can be named)
 std::string default_cache_dir();

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "bench/harness/scene_file.hpp"
 #include "bench/harness/version.hpp"
 
 namespace chainmail {
@@ -47,6 +48,21 @@ void write_file_atomic(const std::string& path, const std::string& text) {
 
 namespace {
 
+// the optional metrics: left out of "final" when a run has none, never written as zero
+struct OptionalMetric {
+  const char* name;
+  std::optional<double> Metrics::*value;
+};
+constexpr OptionalMetric kOptionalMetrics[] = {{"drape_rms", &Metrics::drape_rms},
+                                               {"drape_coefficient", &Metrics::drape_coefficient}};
+
+bool absent(const Metrics& m, const std::string& name) {
+  for (const OptionalMetric& optional : kOptionalMetrics) {
+    if (name == optional.name) return !(m.*optional.value).has_value();
+  }
+  return false;
+}
+
 nlohmann::json backend_entry(const BackendRun& b) {
   nlohmann::json entry;
   entry["dt"] = b.dt;
@@ -55,7 +71,7 @@ nlohmann::json backend_entry(const BackendRun& b) {
   entry["ms_per_step"] = b.ms_per_step();
   entry["realtime_factor"] = b.realtime_factor();
   entry["stable"] = b.stable;
-  entry["verdict"] = b.verdict;
+  entry["verdict"] = to_string(b.verdict);
   char hash[17];
   std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(b.hash));
   entry["hash"] = b.started() ? nlohmann::json(hash) : nlohmann::json(nullptr);
@@ -68,11 +84,8 @@ nlohmann::json backend_entry(const BackendRun& b) {
   if (b.started()) {
     const Metrics& m = b.final_metrics();
     for (const auto& name : metric_names()) {
-      const double v = metric_value(m, name);
       // absent metrics stay absent, never zero; failed ones (inf, NaN of a blown-up run) are null
-      if (name == "drape_rms" && !m.drape_rms) continue;
-      if (name == "drape_coefficient" && !m.drape_coefficient) continue;
-      final_metrics[name] = json_number(v);
+      if (!absent(m, name)) final_metrics[name] = json_number(metric_value(m, name));
     }
     final_metrics["non_finite"] = m.non_finite;
   }
@@ -93,7 +106,7 @@ nlohmann::json backend_entry(const BackendRun& b) {
 
 nlohmann::json summary_json(const SceneRun& run) {
   nlohmann::json out;
-  out["scene"] = run.scene.resolved;
+  out["scene"] = scene_to_json(run.scene);
   out["ring"] = {{"wire_radius", run.scene.ring.wire_radius},
                  {"centre_radius", run.scene.ring.centre_radius},
                  {"mass", run.scene.ring.mass()},
@@ -119,7 +132,9 @@ std::string metrics_header() {
 
 std::string metrics_row(const std::string& backend, const Sample& s) {
   std::string row = backend + "," + csv_number(s.t);
-  for (const auto& name : metric_names()) row += "," + csv_number(metric_value(s.metrics, name));
+  // appended in two parts: "," + a temporary trips a false -Wrestrict in g++ 12
+  for (const auto& name : metric_names())
+    row.append(",").append(csv_number(metric_value(s.metrics, name)));
   return row + "," + csv_number(s.step_wall_ms) + "\n";
 }
 
@@ -166,8 +181,9 @@ std::string table_markdown(const SceneRun& run) {
     const double relative = plausible_ms > 0 ? (b.ms_per_step() / b.dt) / plausible_ms : NAN;
     out << "| " << b.name << " | " << b.dt << " | " << table_number(b.ms_per_step(), 4) << " | "
         << table_number(b.realtime_factor(), 3) << " | "
-        << (std::isnan(relative) ? "-" : table_number(relative, 3) + "x") << " | " << b.verdict
-        << " | " << flag(b.settled) << " | " << flag(b.overstretched) << " | ";
+        << (std::isnan(relative) ? "-" : table_number(relative, 3) + "x") << " | "
+        << to_string(b.verdict) << " | " << flag(b.settled) << " | " << flag(b.overstretched)
+        << " | ";
     if (!b.started()) {
       out << "- | - | - | - | - | - | - | - | - | - |" << (catenary ? " - |" : "") << "\n";
       continue;

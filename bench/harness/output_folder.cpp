@@ -170,8 +170,9 @@ OutputFolder OutputFolder::claim(const std::string& path, const std::string& com
 
   // the staging folder beside the destination, so that commit() is a rename
   const std::string pid = std::to_string(::getpid());
-  const fs::path staging =
-      target.parent_path() / ("." + target.filename().string() + ".partial-" + pid);
+  std::string staging_name = ".";  // appended, not "." + name: GCC 12 warns falsely on that
+  staging_name += target.filename().string() + ".partial-" + pid;
+  const fs::path staging = target.parent_path() / staging_name;
   std::error_code ignored;
   fs::remove_all(staging, ignored);  // a leftover of this very pid cannot be a user's
   if (::mkdir(staging.c_str(), 0777) != 0) refuse(flag, path, std::strerror(errno));
@@ -211,8 +212,9 @@ void OutputFolder::commit() {
     throw SceneError(flag_ + " '" + path_ + "': " + why + " (the results are in " + staging_ + ")");
   }
   const fs::path target(path_);
-  const fs::path old = fs::path(staging_).parent_path() /
-                       ("." + target.filename().string() + ".old-" + std::to_string(::getpid()));
+  std::string old_name = ".";
+  old_name += target.filename().string() + ".old-" + std::to_string(::getpid());
+  const fs::path old = fs::path(staging_).parent_path() / old_name;
   const bool replacing = fs::exists(fs::symlink_status(target));
   if (replacing) fs::rename(target, old);
   fs::rename(staging_, target);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "backends/backend.hpp"
+#include "bench/harness/verdict.hpp"
 #include "core/frame.hpp"
 #include "core/metrics.hpp"
 #include "core/scene.hpp"
@@ -51,12 +52,12 @@ struct BackendRun {
   Knobs knobs;
   double dt = 0.0;
   long long steps = 0;
-  double wall_s = 0.0;  // time inside step() only
-  bool stable = true;
-  std::string verdict = "stable";  // or the instability that ended the run, or "interrupted"
-  std::uint64_t hash = 0;          // frame_hash of the final frame
-  long long samples = 0;           // samples taken
-  std::optional<Sample> last;      // the last sample (absent when the run never started)
+  double wall_s = 0.0;                // time inside step() only
+  bool stable = true;                 // verdict == Verdict::stable
+  Verdict verdict = Verdict::stable;  // or the instability or stop that ended the run
+  std::uint64_t hash = 0;             // frame_hash of the final frame
+  long long samples = 0;              // samples taken
+  std::optional<Sample> last;         // the last sample (absent when the run never started)
   RingFrame final_frame;
   std::map<std::string, StageStats> stages;
   std::optional<double> catenary_error;  // chains pinned at both ends: sag against the catenary
@@ -81,19 +82,30 @@ struct SceneRun {
   bool all_stable() const;
 };
 
-// the backends a run uses: explicit list ("all" = every backend), else those the scene configures
+// --backends all: every backend built into this binary
+inline constexpr const char* kAllBackends = "all";
+// --reference none: no reference run
+inline constexpr const char* kNoReference = "none";
+
+// the backends a run uses: an explicit list ("all" = every built backend; a name not built into
+// this binary is a UsageError), else those the scene configures that are built (the others
+// skipped with a note on stderr), else every built backend
 std::vector<std::string> select_backends(const Scene& scene,
                                          const std::vector<std::string>& requested);
 
 // one backend over the scene's duration; never throws for an unstable simulation. Stops early on
-// a signal (verdict "interrupted"). `hook` sees every sample as it is taken.
+// a signal (verdict interrupted). `hook` sees every sample as it is taken.
 BackendRun run_backend(const Scene& scene, const Weave& weave, const std::string& backend,
+                       const RunOptions& options, const SampleHook& hook = {});
+// the same for a backend given by its registry entry (a test's own backend, too)
+BackendRun run_backend(const Scene& scene, const Weave& weave, const BackendInfo& info,
                        const RunOptions& options, const SampleHook& hook = {});
 
 // every selected backend, drape_rms against the reference run taken as the samples come
 SceneRun run_scene(const Scene& scene, const RunOptions& options);
 
-// the reference backend of a run ("" when none: --reference none)
+// the reference backend of a run ("" when none: --reference none, or a backend not built into
+// this binary)
 std::string reference_backend(const Scene& scene, const RunOptions& options);
 // the scene the reference run uses (its reference_dt applied)
 Scene reference_scene(const Scene& scene, const std::string& reference);
@@ -101,7 +113,8 @@ Scene reference_scene(const Scene& scene, const std::string& reference);
 std::string reference_cache_path(const Scene& scene, const std::string& reference,
                                  const std::string& cache_dir);
 // make sure the reference run is in the cache: run it unless a valid file is there. False when it
-// cannot be (unstable, or the cache cannot be written: then each user runs it again).
+// cannot be (unstable, not built into this binary, or the cache cannot be written: then each user
+// runs it again).
 bool ensure_reference_cached(const Scene& scene, const std::string& reference,
                              const RunOptions& options);
 

@@ -6,8 +6,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bench/harness/scene_file.hpp"
 #include "core/plausible.hpp"
-#include "core/scene.hpp"
 #include "core/weave.hpp"
 
 namespace {

@@ -10,7 +10,7 @@
 #include <benchmark/benchmark.h>
 #include <nlohmann/json.hpp>
 
-#include "core/scene.hpp"
+#include "bench/harness/scene_file.hpp"
 #include "core/weave.hpp"
 #include "render/renderer.hpp"
 

@@ -1,55 +1,26 @@
 // Bullet rigid-torus backend: torus approximation, free fall in both unit systems, linked rings,
-// the catenary of a hanging chain, a hanging curtain and a sheet at rest on a plane.
-#if CHAINMAIL_HAVE_BULLET
-
+// the catenary of a hanging chain, a hanging curtain and a sheet at rest on a plane (what every
+// backend must do is in test_contract.cpp).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <memory>
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "backends/backend.hpp"
-#include "backends/bullet_backend.hpp"
-#include "collider_cases.hpp"
-#include "core/geometry.hpp"
+#include "backend_sim.hpp"
+#include "core/capsule_torus.hpp"
 #include "core/metrics.hpp"
-#include "core/scene.hpp"
-#include "core/weave.hpp"
 
 namespace chainmail {
 namespace {
 
 using nlohmann::json;
 
-// one backend run of a scene given as JSON
-struct BulletRun {
-  Scene scene;
-  Weave weave;
-  Knobs knobs;
-  std::unique_ptr<Backend> backend;
-  RingFrame frame;
-
-  explicit BulletRun(const json& document)
-      : scene(scene_from_json(document, "test")), weave(make_weave(scene.weave, scene.ring)) {
-    const BackendInfo* info = find_backend("bullet");
-    knobs = resolve_knobs(scene, *info);
-    backend = info->create();
-    backend->reset(scene, weave, knobs);
-    backend->frame(frame);
-  }
-  double dt() const { return knobs.at("dt"); }
-  // advance by `seconds` in steps of the dt knob, then read the frame
-  void advance(double seconds) {
-    const long steps = std::lround(seconds / dt());
-    for (long k = 0; k < steps; ++k) backend->step(dt());
-    backend->frame(frame);
-  }
-  Circle circle(int ring) const {
-    return ring_circle(frame.position.col(ring), frame.quat(ring), scene.ring.centre_radius);
-  }
+class Bullet : public test::BackendTest {
+ protected:
+  Bullet() : BackendTest("bullet") {}
 };
 
 Knobs default_knobs() {
@@ -59,7 +30,7 @@ Knobs default_knobs() {
   return resolve_knobs(scene, *find_backend("bullet"));
 }
 
-TEST(Bullet, DefaultPiecesKeepErrorUnderTwoPercentOfWireRadius) {
+TEST_F(Bullet, DefaultPiecesKeepErrorUnderTwoPercentOfWireRadius) {
   const RingGeometry ring = RingGeometry::from_diameters(0.0016, 0.008, 7850.0);
   const double a = ring.wire_radius, c = ring.centre_radius;
   const int pieces = static_cast<int>(default_knobs().at("pieces"));
@@ -77,24 +48,6 @@ TEST(Bullet, DefaultPiecesKeepErrorUnderTwoPercentOfWireRadius) {
       100.0 * fit.inner_diameter_error / ring.inner_diameter());
 }
 
-TEST(Bullet, RingsRestOnEveryColliderType) {
-  const double top = 0.01;  // m, collider top surface height
-  const std::vector<json> colliders = test::colliders_with_top_at(top);
-  for (const json& collider : colliders) {
-    BulletRun run({{"name", "ring_on_collider"},
-                   {"weave",
-                    {{"type", "4in1"},
-                     {"rows", 1},
-                     {"cols", 1},
-                     {"plane", "xz"},
-                     {"center", {0.0, top + 0.01, 0.0}}}},
-                   {"colliders", {collider}},
-                   {"duration", 0.6}});
-    run.advance(0.6);
-    test::expect_ring_resting_on(run.frame, run.backend->profile(), top, collider);
-  }
-}
-
 json single_ring_scene(const json& bullet_knobs) {
   return {{"name", "free_fall"},
           {"weave", {{"type", "4in1"}, {"rows", 1}, {"cols", 1}, {"center", {0.1, 2.0, -0.2}}}},
@@ -102,8 +55,8 @@ json single_ring_scene(const json& bullet_knobs) {
           {"backends", {{"bullet", bullet_knobs}}}};
 }
 
-TEST(Bullet, FreeFallMatchesHalfGTSquared) {
-  BulletRun run(single_ring_scene({{"linear_damping", 0.0}, {"angular_damping", 0.0}}));
+TEST_F(Bullet, FreeFallMatchesHalfGTSquared) {
+  auto run = sim(single_ring_scene({{"linear_damping", 0.0}, {"angular_damping", 0.0}}));
   const Vec3 start = run.frame.position.col(0);
   const Quat rest = run.frame.quat(0);
   const double t = 0.5, g = 9.81;
@@ -120,9 +73,9 @@ TEST(Bullet, FreeFallMatchesHalfGTSquared) {
   EXPECT_LT(run.frame.quat(0).angularDistance(rest), 1e-5);  // no torque, no spin
 }
 
-TEST(Bullet, FreeFallIsTheSameInSiAndScaledUnits) {
-  BulletRun scaled(single_ring_scene({{"linear_damping", 0.0}, {"angular_damping", 0.0}}));
-  BulletRun si(single_ring_scene(
+TEST_F(Bullet, FreeFallIsTheSameInSiAndScaledUnits) {
+  auto scaled = sim(single_ring_scene({{"linear_damping", 0.0}, {"angular_damping", 0.0}}));
+  auto si = sim(single_ring_scene(
       {{"linear_damping", 0.0}, {"angular_damping", 0.0}, {"length_scale", 1.0}}));
   ASSERT_NE(scaled.knobs.at("length_scale"), 1.0);
   scaled.advance(0.3);
@@ -133,8 +86,8 @@ TEST(Bullet, FreeFallIsTheSameInSiAndScaledUnits) {
   EXPECT_LT((scaled.frame.orientation - si.frame.orientation).norm(), 1e-6);
 }
 
-TEST(Bullet, TwoLinkedRingsHangWithoutParting) {
-  BulletRun run({{"name", "two_rings"},
+TEST_F(Bullet, TwoLinkedRingsHangWithoutParting) {
+  auto run = sim({{"name", "two_rings"},
                  {"weave", {{"type", "chain"}, {"cols", 2}}},
                  {"pins", {{{"ring", {0, 0}}}}},
                  {"duration", 5.0}});
@@ -153,23 +106,12 @@ TEST(Bullet, TwoLinkedRingsHangWithoutParting) {
   EXPECT_LT(run.frame.position(1, 1), pinned.y());              // the free ring hangs below
 }
 
-TEST(Bullet, SameSceneGivesBitIdenticalFrames) {
-  const json scene = {{"name", "repeat"},
-                      {"weave", {{"type", "4in1"}, {"rows", 3}, {"cols", 3}, {"plane", "xy"}}},
-                      {"pins", {{{"edge", "top"}}}},
-                      {"duration", 1.0}};
-  BulletRun first(scene), second(scene);
-  first.advance(0.2);
-  second.advance(0.2);
-  EXPECT_EQ(frame_hash(first.frame), frame_hash(second.frame));
-}
-
-TEST(Bullet, ChainSagMatchesCatenary) {
+TEST_F(Bullet, ChainSagMatchesCatenary) {
   // the bench scene itself: a horizontal chain pinned at both end rings, span 0.75 of its length,
   // damped so that it settles within the scene's duration
   const Scene scene = load_scene_file(CHAINMAIL_SOURCE_DIR "/bench/scenes/chain_catenary.json");
   const int kRings = scene.weave.cols;
-  BulletRun run(scene.resolved);
+  auto run = sim(scene_to_json(scene));
   run.advance(scene.duration);
 
   // catenary through the pinned ring centres with the chain's length (n - 1) ID
@@ -197,9 +139,9 @@ TEST(Bullet, ChainSagMatchesCatenary) {
   EXPECT_EQ(m.non_finite, 0);
 }
 
-TEST(Bullet, CurtainHangsWithoutBrokenOrFalseLinks) {
+TEST_F(Bullet, CurtainHangsWithoutBrokenOrFalseLinks) {
   // the backend's default knobs
-  BulletRun run({{"name", "curtain"},
+  auto run = sim({{"name", "curtain"},
                  {"weave", {{"type", "4in1"}, {"rows", 10}, {"cols", 10}, {"plane", "xy"}}},
                  {"pins", {{{"edge", "top"}}}},
                  {"duration", 2.0}});
@@ -214,9 +156,9 @@ TEST(Bullet, CurtainHangsWithoutBrokenOrFalseLinks) {
   EXPECT_NEAR(run.frame.t, 2.0, 1e-9);
 }
 
-TEST(Bullet, SheetRestsOnPlaneWithoutJitter) {
+TEST_F(Bullet, SheetRestsOnPlaneWithoutJitter) {
   // a flat 4-in-1 sheet dropped from just above a floor
-  BulletRun run(
+  auto run = sim(
       {{"name", "sheet_on_floor"},
        {"weave", {{"type", "4in1"}, {"rows", 5}, {"cols", 5}, {"center", {0.0, 0.005, 0.0}}}},
        {"colliders", {{{"type", "plane"}, {"point", {0.0, 0.0, 0.0}}, {"friction", 0.5}}}},
@@ -242,5 +184,3 @@ TEST(Bullet, SheetRestsOnPlaneWithoutJitter) {
 
 }  // namespace
 }  // namespace chainmail
-
-#endif  // CHAINMAIL_HAVE_BULLET

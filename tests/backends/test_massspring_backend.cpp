@@ -1,4 +1,5 @@
-// The massspring backend: knobs, the cloth scenes, stages that run, surface-following frames.
+// The massspring backend: knobs, the cloth scenes, stages that run, surface-following frames
+// (what every backend must do is in test_contract.cpp).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -6,10 +7,7 @@
 #include <filesystem>
 #include <string>
 
-#include "backends/backend.hpp"
-#include "core/frame.hpp"
-#include "core/scene.hpp"
-#include "core/weave.hpp"
+#include "backend_sim.hpp"
 
 namespace chainmail {
 namespace {
@@ -22,26 +20,7 @@ const BackendInfo& info() {
   return *found;
 }
 
-struct BackendRun {
-  Scene scene;
-  Weave weave;
-  Knobs knobs;
-  std::unique_ptr<Backend> backend;
-
-  explicit BackendRun(const Scene& s)
-      : scene(s), weave(make_weave(s.weave, s.ring)), knobs(resolve_knobs(s, info())) {
-    backend = info().create();
-    backend->reset(scene, weave, knobs);
-  }
-  void steps(int count) {
-    for (int k = 0; k < count; ++k) backend->step(knobs.at("dt"));
-  }
-  RingFrame frame() const {
-    RingFrame f;
-    backend->frame(f);
-    return f;
-  }
-};
+test::BackendSim massspring(const Scene& scene) { return test::BackendSim("massspring", scene); }
 
 // a small 4-in-1 sheet hanging from its top edge; knobs as given
 Scene mail_scene(const nlohmann::json& knobs, bool self_contact, bool floor) {
@@ -70,9 +49,7 @@ TEST(MassSpringBackend, RegisteredWithTheDocumentsKnobs) {
   EXPECT_EQ(b.name, "massspring");
   for (const char* knob : {"dt", "substeps", "ks", "shear_ks", "bend_ks", "damping_percent",
                            "correction_passes", "max_extension", "thickness", "areal_density"}) {
-    EXPECT_TRUE(std::any_of(b.knobs.begin(), b.knobs.end(), [&](const KnobSpec& k) {
-      return k.name == knob;
-    })) << knob;
+    EXPECT_NE(find_knob(b, knob), nullptr) << knob;
   }
   const Knobs defaults = resolve_knobs(mail_scene(nlohmann::json::object(), false, false), b);
   EXPECT_DOUBLE_EQ(defaults.at("dt"), 1.0 / 2700.0);
@@ -111,8 +88,8 @@ TEST(MassSpringBackend, ClothScenesLoadAndListOnlyThisBackend) {
 
 TEST(MassSpringBackend, RestFrameFollowsTheSheet) {
   const Scene scene = load_scene_file(kClothDir + "pinned2.json");
-  BackendRun run(scene);
-  const RingFrame f = run.frame();
+  auto run = massspring(scene);
+  const RingFrame f = run.frame;
   ASSERT_EQ(f.size(), 2500);
   EXPECT_EQ(f.t, 0.0);
   for (int m = 0; m < f.size(); ++m) {
@@ -125,9 +102,9 @@ TEST(MassSpringBackend, RestFrameFollowsTheSheet) {
 
 TEST(MassSpringBackend, RingAxisIsTheSurfaceNormalAsTheClothMoves) {
   const Scene scene = load_scene_file(kClothDir + "pinned2.json");
-  BackendRun run(scene);
+  auto run = massspring(scene);
   run.steps(1350);  // half a second: swinging down
-  const RingFrame f = run.frame();
+  const RingFrame f = run.frame;
   EXPECT_GT(f.t, 0.49);
   int checked = 0;
   for (int m = 0; m < f.size(); ++m) {
@@ -149,14 +126,14 @@ TEST(MassSpringBackend, RingAxisIsTheSurfaceNormalAsTheClothMoves) {
 
 TEST(MassSpringBackend, MailSheetRestOrientationIsFlatWithNoSwivel) {
   // ring masses (about 0.5 g) on the document's springs need a shorter step: 10 substeps
-  BackendRun run(mail_scene({{"substeps", 10}}, false, false));
-  const RingFrame f = run.frame();
+  auto run = massspring(mail_scene({{"substeps", 10}}, false, false));
+  const RingFrame f = run.frame;
   for (int m = 0; m < f.size(); ++m) {
     EXPECT_GT(axis_of(f, m).dot(run.weave.normal_axis), 1.0 - 1e-9) << m;
   }
   run.steps(300);
   // hanging from its top edge, the sheet sags but stays a sheet: no flipped normals
-  const RingFrame later = run.frame();
+  const RingFrame later = run.frame;
   for (int m = 0; m < later.size(); ++m) {
     EXPECT_GT(axis_of(later, m).dot(run.weave.normal_axis), 0.5) << m;
     EXPECT_TRUE(later.position.col(m).allFinite());
@@ -164,42 +141,43 @@ TEST(MassSpringBackend, MailSheetRestOrientationIsFlatWithNoSwivel) {
 }
 
 TEST(MassSpringBackend, StagesForLeftOutFeaturesNeverRun) {
-  BackendRun plain(mail_scene(nlohmann::json::object(), false, false));
+  auto plain = massspring(mail_scene(nlohmann::json::object(), false, false));
   plain.steps(10);
-  const auto& stages = plain.backend->profile().stages();
+  const auto& stages = plain.profile().stages();
   EXPECT_EQ(stages.at("forces").calls, 10);
   EXPECT_EQ(stages.at("integrate").calls, 10);
   EXPECT_EQ(stages.count("colliders"), 0u);
   EXPECT_EQ(stages.count("self_contact"), 0u);
 
-  BackendRun all(mail_scene({{"substeps", 3}}, true, true));
+  auto all = massspring(mail_scene({{"substeps", 3}}, true, true));
   all.steps(10);
-  const auto& more = all.backend->profile().stages();
+  const auto& more = all.profile().stages();
   EXPECT_EQ(more.at("forces").calls, 30);
   EXPECT_GT(more.at("colliders").calls, 0);
   EXPECT_GT(more.at("self_contact").calls, 0);
-  EXPECT_NEAR(all.frame().t, 10.0 / 2700.0, 1e-15);
+  EXPECT_NEAR(all.frame.t, 10.0 / 2700.0, 1e-15);
 }
 
 TEST(MassSpringBackend, RingMassByDefaultArealDensityWhenGiven) {
   // a lighter or heavier sheet sags differently under the same springs
-  BackendRun ring_mass(
+  auto ring_mass = massspring(
       mail_scene({{"ks", 5.0}, {"shear_ks", 5.0}, {"bend_ks", 1.0}}, false, false));
-  BackendRun heavy(mail_scene(
+  auto heavy = massspring(mail_scene(
       {{"ks", 5.0}, {"shear_ks", 5.0}, {"bend_ks", 1.0}, {"areal_density", 50.0}}, false, false));
   ring_mass.steps(200);
   heavy.steps(200);
-  const double light_y = ring_mass.frame().position.row(1).mean();
-  const double heavy_y = heavy.frame().position.row(1).mean();
+  const double light_y = ring_mass.frame.position.row(1).mean();
+  const double heavy_y = heavy.frame.position.row(1).mean();
   EXPECT_LT(heavy_y, light_y - 1e-4);
 }
 
 TEST(MassSpringBackend, SameSceneTwiceSameHash) {
   const Scene scene = load_scene_file(kClothDir + "selfcollision.json");
-  BackendRun a(scene), b(scene);
+  auto a = massspring(scene);
+  auto b = massspring(scene);
   a.steps(600);
   b.steps(600);
-  EXPECT_EQ(frame_hash(a.frame()), frame_hash(b.frame()));
+  EXPECT_EQ(frame_hash(a.frame), frame_hash(b.frame));
 }
 
 }  // namespace

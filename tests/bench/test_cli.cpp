@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "backends/backend.hpp"
+
 namespace chainmail {
 namespace {
 
@@ -124,7 +126,8 @@ TEST_F(Cli, BadOverrideAndBadFlagsExitTwo) {
 }
 
 TEST_F(Cli, UnstableRunExitsOneWithItsVerdictWritten) {
-  // a time step far too large for stiff repulsion: the run must end with a verdict, files written
+  // a time step far too large for stiff repulsion (Run.InjectedInstabilityIsReportedNotCrashed
+  // says why it is max_speed): the run ends with that verdict, files written
   const std::string file =
       scene({{"weave", {{"rows", 8}, {"cols", 8}, {"plane", "xz"}}},
              {"pins", json::array()},
@@ -138,10 +141,43 @@ TEST_F(Cli, UnstableRunExitsOneWithItsVerdictWritten) {
   const json summary = json::parse(in);
   const json& entry = summary["backends"]["plausible"];
   EXPECT_FALSE(entry["stable"].get<bool>());
-  const std::string verdict = entry["verdict"];
-  EXPECT_TRUE(verdict == "non_finite" || verdict == "max_speed" || verdict == "energy_growth" ||
-              verdict == "torn_links")
-      << verdict;
+  EXPECT_EQ(entry["verdict"], "max_speed");
+  EXPECT_NE(run.output.find("max_speed"), std::string::npos) << run.output;
+}
+
+TEST_F(Cli, BackendsNotBuiltAreRefusedWhenAskedForAndSkippedWhenTheSceneNamesThem) {
+  std::string unbuilt;
+  for (const auto& name : known_backend_names()) {
+    if (!backend_built(name)) unbuilt = name;
+  }
+  if (unbuilt.empty()) GTEST_SKIP() << "every backend is built into this binary";
+  const Outcome listed =
+      chainmail("run " + scene() + " --backends " + unbuilt + " --quiet --out " + out() + cache());
+  EXPECT_EQ(listed.status, 2);
+  EXPECT_EQ(lines(listed.output), 1) << listed.output;
+  EXPECT_NE(listed.output.find(unbuilt + " is not built into this binary (built: "),
+            std::string::npos)
+      << listed.output;
+  EXPECT_FALSE(fs::exists(out()));
+  // a scene that configures it and measures drape_rms against it runs the rest, with a note each
+  const std::string file =
+      scene({{"reference", unbuilt}, {"backends", {{unbuilt, {{"dt", 0.001}}}}}});
+  const Outcome run = chainmail("run " + file + " --quiet --out " + out() + cache());
+  ASSERT_EQ(run.status, 0) << run.output;
+  EXPECT_NE(run.output.find("cli: " + unbuilt + " not built into this binary: skipped"),
+            std::string::npos)
+      << run.output;
+  EXPECT_NE(
+      run.output.find("cli: reference " + unbuilt + " is not built into this binary: no drape_rms"),
+      std::string::npos)
+      << run.output;
+  std::ifstream in(fs::path(out()) / "summary.json");
+  const json summary = json::parse(in);
+  EXPECT_EQ(summary["reference"],
+            "no reference run (" + unbuilt + " is not built into this binary): drape_rms absent");
+  EXPECT_TRUE(summary["backends"].contains("plausible"));
+  EXPECT_FALSE(summary["backends"].contains(unbuilt));
+  EXPECT_FALSE(summary["backends"]["plausible"]["final"].contains("drape_rms"));
 }
 
 TEST_F(Cli, RenderWritesOnePanelImagePerSample) {

@@ -5,10 +5,13 @@
 
 #include <limits>
 
+#include "bench/harness/backend_names.hpp"
 #include "bench/harness/commands.hpp"
 #include "bench/harness/frame_stream.hpp"
 #include "bench/harness/output.hpp"
 #include "bench/harness/run.hpp"
+#include "bench/harness/scene_file.hpp"
+#include "bench/harness/usage_error.hpp"
 
 namespace chainmail {
 namespace {
@@ -40,18 +43,55 @@ fs::path fresh_dir(const std::string& name) {
   return dir;
 }
 
+// a backend the project has that this binary was built without ("" when every one is built)
+std::string unbuilt_backend() {
+  for (const auto& name : known_backend_names()) {
+    if (!backend_built(name)) return name;
+  }
+  return "";
+}
+
+// rings that stay at their rest layout, but whose model reports a non-finite state from its
+// third step on: the runner must end the run on that report alone
+class FailingBackend final : public Backend {
+ public:
+  const char* name() const override { return "failing"; }
+  void reset(const Scene&, const Weave& weave, const Knobs&) override { weave_ = weave; }
+  StepStatus step(double dt) override {
+    t_ += dt;
+    return ++steps_ >= 3 ? StepStatus::non_finite : StepStatus::ok;
+  }
+  void frame(RingFrame& out) const override {
+    out.resize(weave_.size());
+    out.t = t_;
+    out.position = weave_.rest_position;
+    out.orientation = weave_.rest_orientation;
+    out.velocity.setZero();
+  }
+  const StageProfile& profile() const override { return profile_; }
+
+ private:
+  Weave weave_;
+  double t_ = 0.0;
+  int steps_ = 0;
+  StageProfile profile_;
+};
+
+BackendInfo failing_backend_info() {
+  BackendInfo info;
+  info.name = "failing";
+  info.knobs = {{"dt", KnobSpec::Type::number, 0.01, 1e-5, 0.1, "time step, s"}};
+  info.create = [] { return std::make_unique<FailingBackend>(); };
+  return info;
+}
+
 TEST(Run, BackendsReceiveIdenticalRestLayouts) {
   const Scene scene = small_curtain();
   const Weave weave = make_weave(scene.weave, scene.ring);
   std::vector<RingFrame> first;
   std::vector<std::string> names;
   for (const BackendInfo& info : backend_registry()) {
-    std::unique_ptr<Backend> backend;
-    try {
-      backend = info.create();
-    } catch (const std::exception&) {
-      continue;  // a backend not built into this binary
-    }
+    std::unique_ptr<Backend> backend = info.create();
     backend->reset(scene, weave, resolve_knobs(scene, info));
     RingFrame frame;
     backend->frame(frame);
@@ -155,8 +195,11 @@ TEST(Run, SameSceneTwiceSameHash) {
 }
 
 TEST(Run, InjectedInstabilityIsReportedNotCrashed) {
-  // a time step far too large for the repulsion springs: the run must end with a verdict
-  json doc = small_curtain(1.0).resolved;
+  // a time step far too large for the repulsion springs. A range of 1.5 inner diameters puts
+  // non-neighbours inside it at the rest layout, and 1e6 N/m over 0.05 s throws them at
+  // kilometres per second in the first step: the first sample after it is still finite, so the
+  // first check that fails is max_speed (before torn_links, which fails too)
+  json doc = scene_to_json(small_curtain(1.0));
   doc["weave"] = {{"type", "4in1"}, {"rows", 8}, {"cols", 8}, {"plane", "xz"}};
   doc["pins"] = json::array();
   doc["backends"] = {
@@ -165,8 +208,87 @@ TEST(Run, InjectedInstabilityIsReportedNotCrashed) {
   const SceneRun run = run_scene(scene, quiet());
   ASSERT_EQ(run.runs.size(), 1u);
   EXPECT_FALSE(run.runs[0].stable);
-  EXPECT_NE(run.runs[0].verdict, "stable");
+  EXPECT_EQ(run.runs[0].verdict, Verdict::max_speed) << to_string(run.runs[0].verdict);
+  EXPECT_EQ(run.runs[0].steps, 1);  // the run ends at the sample that failed
+  EXPECT_GT(run.runs[0].final_metrics().max_speed, scene.stability.max_speed);
   EXPECT_FALSE(run.all_stable());
+}
+
+TEST(Run, StepReportingNonFiniteEndsTheRunWithThatVerdict) {
+  // dt 0.01 s, samples every 0.05 s: the report comes at step 3, between two samples
+  const Scene scene = small_curtain();
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  std::vector<double> sampled;
+  const BackendRun run =
+      run_backend(scene, weave, failing_backend_info(), quiet(),
+                  [&](const RingFrame&, Sample& sample) { sampled.push_back(sample.t); });
+  EXPECT_FALSE(run.stable);
+  EXPECT_EQ(run.verdict, Verdict::non_finite) << to_string(run.verdict);
+  EXPECT_EQ(run.steps, 3);
+  // a sample of the state it reported, though its frame looks finite
+  ASSERT_EQ(sampled.size(), 2u);
+  EXPECT_NEAR(sampled[1], 0.03, 1e-12);
+  EXPECT_EQ(run.final_metrics().non_finite, 0);
+  EXPECT_FALSE(run.settled.has_value());  // decided only for runs that ended stable
+}
+
+TEST(Run, VerdictNamesReadBackAsTheirVerdicts) {
+  for (Verdict verdict :
+       {Verdict::stable, Verdict::non_finite, Verdict::max_speed, Verdict::torn_links,
+        Verdict::energy_growth, Verdict::watchdog, Verdict::interrupted}) {
+    const std::optional<Verdict> back = verdict_from_string(to_string(verdict));
+    ASSERT_TRUE(back.has_value()) << to_string(verdict);
+    EXPECT_EQ(*back, verdict) << to_string(verdict);
+  }
+  EXPECT_STREQ(to_string(Verdict::torn_links), "torn_links");  // as docs/metrics.md names it
+  EXPECT_FALSE(verdict_from_string("error").has_value());      // a sweep point without a result
+  EXPECT_FALSE(verdict_from_string("Stable").has_value());
+}
+
+TEST(Run, SceneBackendsNotBuiltAreSkipped) {
+  // a scene that configures every backend the project has runs those built into this binary
+  json doc = scene_to_json(small_curtain());
+  for (const auto& name : known_backend_names()) doc["backends"][name] = json::object();
+  const Scene scene = scene_from_json(doc, "test");
+  EXPECT_EQ(select_backends(scene, {}), built_backend_names());
+  EXPECT_EQ(select_backends(scene, {"all"}), built_backend_names());
+  EXPECT_EQ(select_backends(scene, {"massspring", "plausible", "massspring"}),
+            (std::vector<std::string>{"massspring", "plausible"}));
+}
+
+TEST(Run, NamingABackendNotBuiltIsAUsageError) {
+  const std::string unbuilt = unbuilt_backend();
+  if (unbuilt.empty()) GTEST_SKIP() << "every backend is built into this binary";
+  try {
+    select_backends(small_curtain(), {"plausible", unbuilt});
+    FAIL() << "no error for " << unbuilt;
+  } catch (const UsageError& e) {
+    EXPECT_EQ(std::string(e.what()), "--backends: " + unbuilt +
+                                         " is not built into this binary (built: " +
+                                         join_names(built_backend_names()) + ")");
+  }
+  RunCommand command;
+  command.scene_file = CHAINMAIL_SOURCE_DIR "/bench/scenes/curtain.json";
+  command.backends = {"plausible"};
+  command.reference = unbuilt;
+  command.out_dir = fresh_dir("unbuilt_reference_flag").string();
+  EXPECT_THROW(run_command(command), UsageError);
+  EXPECT_FALSE(fs::exists(command.out_dir));
+}
+
+TEST(Run, ReferenceNotBuiltRunsWithoutDrapeRms) {
+  const std::string unbuilt = unbuilt_backend();
+  if (unbuilt.empty()) GTEST_SKIP() << "every backend is built into this binary";
+  json doc = scene_to_json(small_curtain());
+  doc["reference"] = unbuilt;
+  const Scene scene = scene_from_json(doc, "test");
+  EXPECT_EQ(reference_backend(scene, quiet()), "");
+  const SceneRun run = run_scene(scene, quiet());
+  ASSERT_EQ(run.runs.size(), 1u);
+  EXPECT_TRUE(run.all_stable());
+  EXPECT_FALSE(run.runs[0].final_metrics().drape_rms.has_value());
+  EXPECT_EQ(run.reference_note.value_or(""),
+            "no reference run (" + unbuilt + " is not built into this binary): drape_rms absent");
 }
 
 TEST(Run, ContractFilesWritten) {
@@ -225,7 +347,7 @@ TEST(Run, NonFiniteValuesNeverReachAFile) {
 TEST(Run, SettledAgainstTheEnergyReleased) {
   // physics, not the code's idea of it: a ring in free fall has turned all the potential energy
   // it lost into kinetic energy (not settled); a ring lying on the ground keeps none (settled)
-  json doc = small_curtain(0.3).resolved;
+  json doc = scene_to_json(small_curtain(0.3));
   doc["weave"] = {{"type", "4in1"}, {"rows", 1}, {"cols", 1}, {"plane", "xz"}};
   doc["pins"] = json::array();
   const SceneRun falling = run_scene(scene_from_json(doc, "test"), quiet());
@@ -242,7 +364,7 @@ TEST(Run, SettledAgainstTheEnergyReleased) {
 TEST(Run, OverstretchedIsFlaggedApartFromStability) {
   // a sheet hitting a sphere at 10 m/s: the paper's model lets links stretch past the inner
   // diameter (impossible for real rings) without going unstable
-  json doc = small_curtain(0.2).resolved;
+  json doc = scene_to_json(small_curtain(0.2));
   doc["weave"] = {
       {"type", "4in1"}, {"rows", 6}, {"cols", 6}, {"plane", "xz"}, {"center", {0, 0.05, 0}}};
   doc["pins"] = json::array();
@@ -273,10 +395,10 @@ TEST(Run, BadInputExitsTwoAndWritesNothing) {
   command.progress = false;
   EXPECT_THROW(run_command(command), SceneError);
   EXPECT_FALSE(fs::exists(dir));
-  // a bad backend name and a bad knob are refused the same way
+  // a bad backend name (a usage error) and a bad knob (a scene error) are refused the same way
   command.scene_file = CHAINMAIL_SOURCE_DIR "/bench/scenes/curtain.json";
   command.backends = {"nosuch"};
-  EXPECT_THROW(run_command(command), SceneError);
+  EXPECT_THROW(run_command(command), UsageError);
   command.backends = {"plausible"};
   command.overrides = {"backends.plausible.iterations=0"};
   EXPECT_THROW(run_command(command), SceneError);

@@ -1,9 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <optional>
 #include <random>
+#include <vector>
 
 #include "core/geometry.hpp"
 #include "core/ring.hpp"
@@ -92,17 +94,61 @@ TEST(CircleCircleDistance, MatchesBruteForceOnRandomPairs) {
   }
 }
 
+// independent reference for the distance between two circles: `b` sampled densely in a basis of
+// its own, each point's distance to `a` in closed form (height over a's plane, radial offset in
+// it), every sampled local minimum refined by golden-section search to 1e-13 rad
+double reference_distance(const Circle& a, const Circle& b) {
+  const Vec3 u = b.normal.unitOrthogonal(), v = b.normal.cross(u);
+  auto f = [&](double s) {
+    const Vec3 d = b.centre + b.radius * (std::cos(s) * u + std::sin(s) * v) - a.centre;
+    const double height = d.dot(a.normal);
+    return std::hypot(height, (d - height * a.normal).norm() - a.radius);
+  };
+  constexpr int kSamples = 4096;
+  const double step = 2.0 * std::numbers::pi / kSamples;
+  std::vector<double> value(kSamples);
+  for (int k = 0; k < kSamples; ++k) value[k] = f(k * step);
+  double best = *std::min_element(value.begin(), value.end());
+  const double inv_phi = (std::sqrt(5.0) - 1.0) / 2.0;
+  for (int k = 0; k < kSamples; ++k) {
+    if (value[k] > value[(k + kSamples - 1) % kSamples] || value[k] > value[(k + 1) % kSamples])
+      continue;
+    double lo = (k - 1) * step, hi = (k + 1) * step;
+    while (hi - lo > 1e-13) {
+      const double x1 = hi - inv_phi * (hi - lo), x2 = lo + inv_phi * (hi - lo);
+      if (f(x1) < f(x2)) {
+        hi = x2;
+      } else {
+        lo = x1;
+      }
+    }
+    best = std::min(best, f(0.5 * (lo + hi)));
+  }
+  return best;
+}
+
 TEST(CircleCircleDistance, RefinedToNineDigits) {
-  // a case with a known closed form: parallel coaxial circles at height h, radii equal: distance h
+  // parallel planes 0.2 apart, projections crossing (lateral offset 0.3 < 2r): the circles pass
+  // right above each other where the projections cross, so the distance is the height 0.2
   const Circle a = circle(Vec3::Zero(), Vec3::UnitY(), 1.0);
   const Circle b = circle(Vec3(0.3, 0.2, 0), Vec3::UnitY(), 1.0);
-  // coplanar-offset parallel circles intersect in projection: distance is the height 0.2
   EXPECT_NEAR(circle_circle_distance(a, b), 0.2, 1e-9 * 0.2);
-  // perpendicular case, off-centre, relative accuracy
+  // tilted, off-centre: c's plane holds the x axis, c meets a's plane at x = 0.3 and 2.3, and the
+  // nearest points are (0.3, 0, 0) and (1, 0, 0): distance 0.7. Against the reference, which
+  // knows nothing of the closed form, and on random pairs at the default sample count
   const Circle c = circle(Vec3(1.3, 0.0, 0.0), Vec3(0.0, 0.3, 1.0), 1.0);
-  const double d = circle_circle_distance(a, c);
-  const double dense = circle_circle_distance(a, c, 4096);
-  EXPECT_NEAR(d, dense, 1e-9 * dense);
+  const double reference = reference_distance(a, c);
+  EXPECT_NEAR(reference, 0.7, 1e-12);
+  EXPECT_NEAR(circle_circle_distance(a, c), reference, 1e-9 * reference);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 100; ++trial) {
+    const Circle p = circle(Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), 1.0);
+    const Circle q = circle(Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), 0.7);
+    const double expected = reference_distance(p, q);
+    if (expected < 1e-3) continue;  // crossing circles: no relative accuracy to speak of
+    EXPECT_NEAR(circle_circle_distance(p, q), expected, 1e-9 * expected) << trial;
+  }
 }
 
 TEST(Interpenetration, TouchingIsNotPenetrating) {

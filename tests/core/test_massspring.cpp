@@ -1,97 +1,14 @@
-// Mass-spring cloth model: springs, Verlet, the over-extension correction, contact, self-collision.
+// Mass-spring cloth model: springs, Verlet, the over-extension correction, contact.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
-#include <set>
-#include <string>
-#include <unordered_set>
 
-#include "core/massspring.hpp"
-#include "core/scene.hpp"
-#include "core/spatial_hash.hpp"
-#include "core/weave.hpp"
+#include "massspring_fixture.hpp"
 
 namespace chainmail::massspring {
 namespace {
-
-const std::string kClothDir = std::string(CHAINMAIL_SOURCE_DIR) + "/bench/scenes/cloth/";
-constexpr double kDt = 1.0 / 2700.0;
-
-// a cloth scene document: rows x cols masses, level in the x/z plane at height 1 m
-nlohmann::json grid_document(int rows, int cols, double spacing) {
-  return {{"name", "test"},
-          {"weave",
-           {{"type", "grid"},
-            {"rows", rows},
-            {"cols", cols},
-            {"plane", "xz"},
-            {"center", {0.0, 1.0, 0.0}},
-            {"spacing", spacing}}},
-          {"duration", 1.0}};
-}
-
-// the model settings a cloth scene file asks for under backends.massspring
-Settings settings_of(const Scene& scene) {
-  const auto& k = scene.backends.at("massspring");
-  Settings s;
-  s.ks = k.value("ks", s.ks);
-  s.shear_ks = k.value("shear_ks", s.shear_ks);
-  s.bend_ks = k.value("bend_ks", s.bend_ks);
-  s.damping_percent = k.value("damping_percent", s.damping_percent);
-  s.correction_passes = k.value("correction_passes", s.correction_passes);
-  s.max_extension = k.value("max_extension", s.max_extension);
-  s.thickness = k.value("thickness", s.thickness);
-  s.areal_density = k.value("areal_density", s.areal_density);
-  s.self_collision = scene.self_contact;
-  return s;
-}
-
-struct Sim {
-  Scene scene;
-  Weave weave;
-  Model model;
-  State state;
-  StageProfile profile;
-
-  Sim(const Scene& s, const Settings& settings)
-      : scene(s),
-        weave(make_weave(s.weave, s.ring)),
-        model(make_model(scene, weave, settings)),
-        state(make_state(model, weave.rest_position)) {}
-  void run(int steps, double dt = kDt) {
-    for (int k = 0; k < steps; ++k) step(model, state, dt, profile);
-  }
-  double kinetic_energy() const {
-    double e = 0.0;
-    for (int m = 0; m < model.size(); ++m)
-      e += 0.5 * model.mass[m] * state.velocity(m).squaredNorm();
-    return e;
-  }
-  double max_stretch() const {
-    double worst = 0.0;
-    for (const Spring& s : model.springs) {
-      worst = std::max(worst, (state.position.col(s.b) - state.position.col(s.a)).norm() / s.rest);
-    }
-    return worst;
-  }
-};
-
-Scene cloth_scene(const std::string& file) {
-  return load_scene_file(kClothDir + file);
-}
-
-// smallest distance between any two masses (pairs within `radius` only; radius if none)
-double min_pair_distance(const Positions& x, double radius) {
-  SpatialHash hash;
-  hash.build(x, radius);
-  double closest = radius;
-  hash.for_each_pair(
-      x, radius, [&](int i, int j) { closest = std::min(closest, (x.col(i) - x.col(j)).norm()); });
-  return closest;
-}
+using namespace test;
 
 // --- springs -------------------------------------------------------------------------------------
 
@@ -420,87 +337,6 @@ TEST(MassSpring, NoMassBelowThePlaneAfterContact) {
   }
   EXPECT_GT(touching, 0);
   EXPECT_EQ(sim.profile.stages().count("self_contact"), 0u);  // the scene turns it off
-}
-
-// --- self-collision ------------------------------------------------------------------------------
-
-// the self-collision scene, run once for the tests below: snapshots every 1/10 s for 1.2 s
-class SelfCollisionScene : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    const Scene scene = cloth_scene("selfcollision.json");
-    settings_ = new Settings(settings_of(scene));
-    Sim sim(scene, *settings_);
-    snapshots_ = new std::vector<Positions>{sim.state.position};
-    worst_ = new double(settings_->thickness);
-    for (int frame = 1; frame <= 36; ++frame) {
-      sim.run(90);
-      *worst_ = std::min(*worst_, min_pair_distance(sim.state.position, settings_->thickness));
-      if (frame % 3 == 0) snapshots_->push_back(sim.state.position);
-    }
-    plane_ = new Collider(scene.colliders.at(0));
-  }
-  static void TearDownTestSuite() {
-    delete settings_, delete snapshots_, delete worst_, delete plane_;
-  }
-  static Settings* settings_;
-  static std::vector<Positions>* snapshots_;
-  static double* worst_;
-  static Collider* plane_;
-};
-Settings* SelfCollisionScene::settings_ = nullptr;
-std::vector<Positions>* SelfCollisionScene::snapshots_ = nullptr;
-double* SelfCollisionScene::worst_ = nullptr;
-Collider* SelfCollisionScene::plane_ = nullptr;
-
-TEST_F(SelfCollisionScene, MassesStayAtLeastTheThicknessApart) {
-  ASSERT_EQ(settings_->thickness, 0.0095);
-  EXPECT_GE(*worst_, settings_->thickness * (1.0 - 1e-4));
-  // the cloth did fold onto itself: many non-neighbour masses sit at about the thickness
-  int near = 0;
-  SpatialHash hash;
-  const Positions& last = snapshots_->back();
-  hash.build(last, 1.05 * settings_->thickness);
-  hash.for_each_pair(last, 1.05 * settings_->thickness, [&](int, int) { ++near; });
-  EXPECT_GT(near, 50);
-  for (int m = 0; m < last.cols(); ++m) {
-    ASSERT_GE((Vec3(last.col(m)) - plane_->center).dot(plane_->normal), -1e-12);
-  }
-}
-
-// cells sharing a bucket with another cell, for a given cell hash and table size
-template <class Hash>
-long long bucket_collisions(const Positions& x, double cell, int table, Hash hash) {
-  std::set<std::array<long long, 3>> cells;
-  for (int m = 0; m < x.cols(); ++m) {
-    cells.insert({static_cast<long long>(std::floor(x(0, m) / cell)),
-                  static_cast<long long>(std::floor(x(1, m) / cell)),
-                  static_cast<long long>(std::floor(x(2, m) / cell))});
-  }
-  std::unordered_set<std::uint64_t> buckets;
-  for (const auto& c : cells) buckets.insert(hash(c[0], c[1], c[2]) % table);
-  return static_cast<long long>(cells.size() - buckets.size());
-}
-
-TEST_F(SelfCollisionScene, WellMixedHashCollidesLessThanTheDocumentsHash) {
-  // the document's x + y^2 + z^3 (its absolute value, then modulo) against core's hash_cell,
-  // same cells (the thickness), same table size as SpatialHash picks (2n + 1)
-  auto document = [](long long x, long long y, long long z) {
-    const long long h = x + y * y + z * z * z;
-    return static_cast<std::uint64_t>(h < 0 ? -h : h);
-  };
-  auto mixed = [](long long x, long long y, long long z) { return hash_cell(x, y, z); };
-  long long doc_total = 0, mixed_total = 0;
-  for (const Positions& x : *snapshots_) {
-    const int table = 2 * static_cast<int>(x.cols()) + 1;
-    doc_total += bucket_collisions(x, settings_->thickness, table, document);
-    mixed_total += bucket_collisions(x, settings_->thickness, table, mixed);
-  }
-  std::printf("bucket collisions over %zu snapshots: x + y^2 + z^3 %lld, hash_cell %lld\n",
-              snapshots_->size(), doc_total, mixed_total);
-  RecordProperty("document_hash_collisions", std::to_string(doc_total));
-  RecordProperty("hash_cell_collisions", std::to_string(mixed_total));
-  EXPECT_LT(mixed_total, doc_total);
 }
 
 }  // namespace

@@ -4,8 +4,8 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
+#include "bench/harness/scene_file.hpp"
 #include "core/metrics.hpp"
-#include "core/scene.hpp"
 #include "core/weave.hpp"
 
 namespace chainmail {
@@ -210,6 +210,74 @@ TEST(Metrics, PenetrationDepthsOfKnownPairs) {
   EXPECT_EQ(clear.penetration_max_linked + clear.penetration_mean_linked +
                 clear.penetration_max_other + clear.penetration_mean_other,
             0.0);
+}
+
+// a chain of n rings pinned at both ends, level, with span / length = 1 / sinh(1): the catenary
+// y = A cosh(x / A) through both pins then has A = span / 2 and sags A (cosh 1 - 1) at the middle
+struct HangingChain {
+  Scene scene;
+  Weave weave;
+  RingFrame frame;
+  double span = 0.0, A = 0.0;  // m
+
+  explicit HangingChain(int n) {
+    scene.weave.type = WeaveType::chain;
+    scene.weave.cols = n;
+    scene.weave.spacing = 1.0 / std::sinh(1.0);
+    PinSpec first, last;
+    last.col = n - 1;
+    scene.pins = {first, last};
+    weave = make_weave(scene.weave, scene.ring);
+    frame.resize(n);
+    frame.position = weave.rest_position;
+    span = (weave.rest_position.col(n - 1) - weave.rest_position.col(0)).norm();
+    A = 0.5 * span;
+  }
+  // every ring lowered `scale` times onto the analytic catenary
+  void hang(double scale) {
+    const Vec3 middle = 0.5 * (weave.rest_position.col(0) + weave.rest_position.col(size() - 1));
+    for (int i = 0; i < size(); ++i) {
+      const double x = (weave.rest_position.col(i) - middle).norm();
+      frame.position.col(i) = weave.rest_position.col(i);
+      frame.position(1, i) -= scale * A * (std::cosh(1.0) - std::cosh(x / A));
+    }
+  }
+  int size() const { return weave.size(); }
+};
+
+TEST(Catenary, SagMeasuredAgainstTheAnalyticCatenary) {
+  HangingChain chain(21);  // odd: the middle ring sits at the lowest point
+  const double length = (chain.size() - 1) * chain.scene.ring.max_link_distance();
+  ASSERT_NEAR(2.0 * chain.A * std::sinh(chain.span / (2.0 * chain.A)), length, 1e-12 * length);
+  // the straight rest chain has no sag: error 1 (100 %)
+  ASSERT_TRUE(catenary_error(chain.scene, chain.weave, chain.frame).has_value());
+  EXPECT_NEAR(*catenary_error(chain.scene, chain.weave, chain.frame), 1.0, 1e-12);
+  // on the catenary: error 0; half and one and a half times its sag: 50 %
+  chain.hang(1.0);
+  EXPECT_NEAR(*catenary_error(chain.scene, chain.weave, chain.frame), 0.0, 1e-9);
+  chain.hang(0.5);
+  EXPECT_NEAR(*catenary_error(chain.scene, chain.weave, chain.frame), 0.5, 1e-9);
+  chain.hang(1.5);
+  EXPECT_NEAR(*catenary_error(chain.scene, chain.weave, chain.frame), 0.5, 1e-9);
+}
+
+TEST(Catenary, OnlyForAChainPinnedAtBothEndsAtEqualHeight) {
+  HangingChain one_end(9);
+  one_end.scene.pins.pop_back();
+  EXPECT_FALSE(catenary_error(one_end.scene, one_end.weave, one_end.frame).has_value());
+  HangingChain inner(9);
+  inner.scene.pins.back().col = 7;  // not the last ring
+  EXPECT_FALSE(catenary_error(inner.scene, inner.weave, inner.frame).has_value());
+  HangingChain tilted(9);
+  tilted.scene.gravity = Vec3(-9.81, 0.0, 0.0);  // along the chain: one pin above the other
+  EXPECT_FALSE(catenary_error(tilted.scene, tilted.weave, tilted.frame).has_value());
+  HangingChain taut(9);
+  taut.scene.weave.spacing = 1.0;  // span = length: no catenary to hang on
+  taut.weave = make_weave(taut.scene.weave, taut.scene.ring);
+  EXPECT_FALSE(catenary_error(taut.scene, taut.weave, taut.frame).has_value());
+  Layout cloth(sheet("4in1", 4, 4));  // a sheet is not a chain
+  cloth.scene.pins = one_end.scene.pins;
+  EXPECT_FALSE(catenary_error(cloth.scene, cloth.weave, cloth.frame).has_value());
 }
 
 }  // namespace

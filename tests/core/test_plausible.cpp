@@ -6,6 +6,7 @@
 #include <set>
 #include <utility>
 
+#include "bench/harness/scene_file.hpp"
 #include "core/geometry.hpp"
 #include "core/orientation.hpp"
 #include "core/plausible.hpp"

@@ -1,10 +1,11 @@
-// The renderer's CPU geometry: torus winding, level-of-detail choice, camera framing, cloth mesh.
+// The renderer's CPU geometry: torus winding, the ray-cast box, the cloth mesh.
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include "core/scene.hpp"
 #include "core/weave.hpp"
 #include "render/mesh.hpp"
+#include "render/scene_view.hpp"
+#include "test_scenes.hpp"
 
 namespace chainmail::render {
 namespace {
@@ -53,21 +54,11 @@ TEST(RenderMesh, BoxIsTheUnitCubeSeenFromOutside) {
   }
 }
 
-TEST(RenderMesh, FinerLevelsForBiggerRings) {
-  EXPECT_EQ(lod_for_pixels(500.0), 0);
-  EXPECT_EQ(lod_for_pixels(1.0), kLodLevels - 1);
-  for (double px = 1.0; px < 200.0; px *= 1.1) {
-    EXPECT_GE(lod_for_pixels(px), lod_for_pixels(px * 1.1));
-  }
-}
-
+// a plain grid of point masses 1 cm apart (the cloth scenes' weave)
 Scene grid_scene(int rows, int cols) {
-  return scene_from_json(
-      {{"name", "cloth"},
-       {"ring", {{"wire_diameter", 0.0016}, {"inner_diameter", 0.008}}},
-       {"weave", {{"type", "grid"}, {"rows", rows}, {"cols", cols}, {"spacing", 0.01}}},
-       {"duration", 1.0}},
-      "test");
+  Scene scene = test::sheet_scene(rows, cols, WeaveType::grid);
+  scene.weave.spacing = 0.01;
+  return scene;
 }
 
 TEST(RenderMesh, ClothMeshJoinsGridNeighboursIntoQuads) {
@@ -91,29 +82,6 @@ TEST(RenderMesh, ClothMeshJoinsGridNeighboursIntoQuads) {
   frame.position(0, 0) = std::nan("");
   EXPECT_LT(cloth_mesh(frame, weave, 1, Eigen::Vector3d::Zero()).indices.size(),
             mesh.indices.size());
-}
-
-TEST(RenderMesh, AutomaticCameraSeesTheWholeFabricFromAboveAndInFront) {
-  const Scene scene = scene_from_json({{"name", "sheet"},
-                                       {"weave", {{"type", "4in1"}, {"rows", 10}, {"cols", 10}}},
-                                       {"duration", 1.0}},
-                                      "test");
-  const Weave weave = make_weave(scene.weave, scene.ring);
-  RingFrame frame;
-  frame.resize(weave.size());
-  frame.position = weave.rest_position;
-  const Bounds bounds = frame_bounds({&frame});
-  const CameraView camera = make_camera(scene, bounds, 4.0 / 3.0);
-  EXPECT_GT(camera.eye.y(), bounds.center().y());
-  EXPECT_GT(camera.eye.z(), bounds.center().z());
-  const Eigen::Matrix4f vp = camera.view_projection(Eigen::Vector3d::Zero());
-  for (int ring = 0; ring < frame.size(); ++ring) {
-    const Eigen::Vector4f clip =
-        vp * Eigen::Vector4f(frame.position(0, ring), frame.position(1, ring),
-                             frame.position(2, ring), 1.0f);
-    const Eigen::Vector3f ndc = clip.head<3>() / clip.w();
-    EXPECT_LT(ndc.cwiseAbs().maxCoeff(), 1.0f) << "ring " << ring << " off screen";
-  }
 }
 
 }  // namespace

@@ -8,7 +8,6 @@
 #include <string>
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #define STB_IMAGE_STATIC
 #define STB_IMAGE_IMPLEMENTATION
@@ -25,6 +24,7 @@
 #include "core/scene.hpp"
 #include "core/weave.hpp"
 #include "render/renderer.hpp"
+#include "test_scenes.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
 #include <sanitizer/lsan_interface.h>
@@ -37,27 +37,17 @@ namespace fs = std::filesystem;
 
 const std::string kShaderDir = std::string(CHAINMAIL_SOURCE_DIR) + "/shaders";
 
-// a 4-in-1 sheet of rows x cols rings (wire 1.6 mm, inner diameter 8 mm) over a ground plane at
-// height `ground`
-Scene make_scene(int rows, int cols, const nlohmann::json& camera = nullptr,
-                 double ground = -0.02) {
-  nlohmann::json doc = {
-      {"name", "test"},
-      {"ring", {{"wire_diameter", 0.0016}, {"inner_diameter", 0.008}, {"density", 7850.0}}},
-      {"weave", {{"type", "4in1"}, {"rows", rows}, {"cols", cols}}},
-      {"colliders", nlohmann::json::array({{{"type", "plane"}, {"point", {0.0, ground, 0.0}}}})},
-      {"duration", 1.0}};
-  if (!camera.is_null()) doc["camera"] = camera;
-  return scene_from_json(doc, "test");
-}
+using test::rest_frame;
 
-RingFrame rest_frame(const Weave& weave) {
-  RingFrame frame;
-  frame.resize(weave.size());
-  frame.position = weave.rest_position;
-  frame.orientation = weave.rest_orientation;
-  frame.velocity.setZero();
-  return frame;
+// a 4-in-1 sheet of rows x cols rings (wire 1.6 mm, inner diameter 8 mm) over a ground plane at
+// height `ground`, framed by the automatic camera
+Scene make_scene(int rows, int cols) {
+  return test::with_ground(test::sheet_scene(rows, cols), -0.02);
+}
+// the same seen from `eye`, looking at the origin with a 40 degree field
+Scene make_scene_seen_from(int rows, int cols, const Vec3& eye, double ground = -0.02) {
+  return test::with_ground(test::with_camera(test::sheet_scene(rows, cols), eye, Vec3::Zero()),
+                           ground);
 }
 
 // the weave's first ring alone at the origin, flat (axis +Y), and no rings at all
@@ -85,10 +75,30 @@ const unsigned char* pixel(const Image& image, int x, int y) {
   return &image.rgba[(static_cast<size_t>(y) * image.width + x) * 4];
 }
 
-int pixel_difference(const Image& a, const Image& b, int x, int y) {
+// summed over R, G, B, between (x, y) in `a` and (x + shift, y) in `b`
+int pixel_difference(const Image& a, const Image& b, int x, int y, int shift = 0) {
   int sum = 0;
-  for (int c = 0; c < 3; ++c) sum += std::abs(pixel(a, x, y)[c] - pixel(b, x, y)[c]);
+  for (int c = 0; c < 3; ++c) sum += std::abs(pixel(a, x, y)[c] - pixel(b, x + shift, y)[c]);
   return sum;
+}
+
+// share of a panel's pixels where its fabric changes the picture by more than 30 levels (summed
+// over R, G, B): the panel is drawn beside one without rings, which shares its camera (the
+// automatic camera frames every panel's rings), and the two halves are compared
+double fabric_coverage(Renderer& renderer, const Scene& scene, const Weave& weave,
+                       const Panel& panel, int threshold = 30) {
+  RingFrame empty;
+  empty.resize(0);
+  empty.t = panel.frame ? panel.frame->t : 0.0;  // the same label
+  const Image pair = renderer.render(scene, weave, {panel, {panel.label, &empty, panel.as_cloth}});
+  const int width = pair.width / 2;
+  int covered = 0;
+  for (int y = 0; y < pair.height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      covered += pixel_difference(pair, pair, x, y, width) > threshold;
+    }
+  }
+  return static_cast<double>(covered) / (width * pair.height);
 }
 
 // a fresh directory under the system temp dir, removed by the destructor
@@ -113,6 +123,8 @@ TEST(Render, KnownFrameWritesPngOfRequestedSize) {
   ASSERT_EQ(image.width, 160);
   ASSERT_EQ(image.height, 120);
   EXPECT_EQ(renderer->last_stats().instances, 36);
+  // the rings are in the picture: the automatic camera fills much of it with the sheet
+  EXPECT_GT(fabric_coverage(*renderer, scene, weave, {"plausible", &frame}), 0.2);
 
   TempDir dir;
   const std::string path = (dir.path / "frame.png").string();
@@ -137,7 +149,7 @@ TEST(Render, KnownFrameWritesPngOfRequestedSize) {
 
 TEST(Render, CloseUpShowsWireAndBackgroundThroughTheHole) {
   // one ring at the origin, its axis (+Y) pointing at a camera straight above it
-  const Scene scene = make_scene(1, 1, {{"position", {0.0, 0.03, 0.0}}, {"target", {0, 0, 0}}});
+  const Scene scene = make_scene_seen_from(1, 1, Vec3(0.0, 0.03, 0.0));
   const Weave weave = make_weave(scene.weave, scene.ring);
   const RingFrame ring = flat_ring_at_origin(weave), empty = no_rings();
 
@@ -176,6 +188,8 @@ TEST(Render, IdenticalFramesGiveIdenticalPanels) {
   const Image image = renderer->render(scene, weave, {{"same", &a}, {"same", &b}});
   ASSERT_EQ(image.width, 320);
   ASSERT_EQ(image.height, 120);
+  // the panels show the sheet (two blank panels would be identical too)
+  EXPECT_GT(fabric_coverage(*renderer, scene, weave, {"same", &a}), 0.2);
   for (int y = 0; y < image.height; ++y) {
     ASSERT_EQ(0, std::memcmp(pixel(image, 0, y), pixel(image, 160, y), 160 * 4)) << "row " << y;
   }
@@ -199,6 +213,9 @@ TEST(Render, SameInputSameImage) {
   const RingFrame frame = rest_frame(weave);
   auto renderer = Renderer::create(small_settings());
   const Image first = renderer->render(scene, weave, {{"x", &frame}});
+  // a picture worth comparing: the sheet covers much of it (two blank images would be equal
+  // too); the two-panel image drawn for that in between leaves nothing behind
+  EXPECT_GT(fabric_coverage(*renderer, scene, weave, {"x", &frame}), 0.2);
   const Image second = renderer->render(scene, weave, {{"x", &frame}});
   EXPECT_EQ(first.rgba, second.rgba);
 }
@@ -254,8 +271,7 @@ bool interior_in_both(const Image& a, const Image& b, const Image& background, i
 
 TEST(Render, RayCastRingsMatchTheFinestMesh) {
   // a 4x4 sheet seen obliquely from close by, so rings are large and interlock on screen
-  const Scene scene = make_scene(
-      4, 4, {{"position", {0.02, 0.035, 0.045}}, {"target", {0, 0, 0}}, {"fov_deg", 40}});
+  const Scene scene = make_scene_seen_from(4, 4, Vec3(0.02, 0.035, 0.045));
   const Weave weave = make_weave(scene.weave, scene.ring);
   const RingFrame frame = rest_frame(weave), empty = no_rings();
   RenderSettings settings = small_settings();
@@ -295,8 +311,7 @@ TEST(Render, RayCastDepthIsTheSurfaceDepth) {
   // ray-cast ring must show that strip like the finest mesh does; depth from its bounding box
   // instead of from the surface would show the whole width of the wire.
   const double a = 0.0008;  // make_scene's wire radius
-  const Scene scene =
-      make_scene(1, 1, {{"position", {0.0, 0.03, 0.0}}, {"target", {0, 0, 0}}}, 0.9 * a);
+  const Scene scene = make_scene_seen_from(1, 1, Vec3(0.0, 0.03, 0.0), 0.9 * a);
   const Weave weave = make_weave(scene.weave, scene.ring);
   const RingFrame ring = flat_ring_at_origin(weave), empty = no_rings();
   RenderSettings settings = small_settings();
@@ -338,8 +353,7 @@ double flicker_energy(const Image& a, const Image& b) {
 
 TEST(Render, ThinWiresDoNotShimmerUnderSubPixelMotion) {
   // a sheet filling the view from above: rings about 9 px across, wires about 1.3 px
-  const Scene scene = make_scene(
-      40, 40, {{"position", {0.0, 0.45, 0.001}}, {"target", {0, 0, 0}}, {"fov_deg", 40}});
+  const Scene scene = make_scene_seen_from(40, 40, Vec3(0.0, 0.45, 0.001));
   const Weave weave = make_weave(scene.weave, scene.ring);
   const RingFrame frame = rest_frame(weave);
   RenderSettings settings = small_settings();
@@ -393,6 +407,9 @@ TEST(Render, ClothPathDrawsEveryShader) {
     auto renderer = Renderer::create(settings);
     const Image cloth = renderer->render(scene, weave, {{"x", &frame, true}});
     EXPECT_NE(cloth.rgba, ring_image.rgba) << name;
+    // the cloth is drawn: the quads between ring centres (an eighth of the view; the texture's
+    // holes show the ground through half of that) differ from the ground beneath
+    EXPECT_GT(fabric_coverage(*renderer, scene, weave, {"x", &frame, true}, 10), 0.03) << name;
   }
   settings.cloth_shader = "velvet";
   EXPECT_THROW(Renderer::create(settings), RenderError);
@@ -462,6 +479,7 @@ TEST(Render, OsmesaAndEglDrawTheSameImage) {
     }
     EXPECT_EQ(renderer->context_name(), kinds[k]);
     images[k] = renderer->render(scene, weave, {{"x", &frame}});
+    EXPECT_GT(fabric_coverage(*renderer, scene, weave, {"x", &frame}), 0.2) << kinds[k];
   }
   EXPECT_EQ(images[0].rgba, images[1].rgba);
 }

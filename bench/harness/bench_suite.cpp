@@ -1,0 +1,263 @@
+#include "bench/harness/bench_suite.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <functional>
+#include <sstream>
+
+#include "bench/harness/commands.hpp"
+#include "bench/harness/interrupt.hpp"
+#include "bench/harness/output.hpp"
+#include "bench/harness/output_folder.hpp"
+#include "bench/harness/process.hpp"
+#include "bench/harness/render_output.hpp"
+#include "bench/harness/run.hpp"
+#include "bench/harness/scene_file.hpp"
+#include "bench/harness/stability.hpp"
+#include "bench/harness/sweep.hpp"
+#include "bench/harness/table_cells.hpp"
+
+namespace chainmail {
+namespace fs = std::filesystem;
+
+const BenchPlan& bench_plan() {
+  const std::vector<std::string> quick_sheet = {"weave.rows=4", "weave.cols=4", "duration=0.05"};
+  static const BenchPlan plan{
+      // sizes for a bench of a few minutes on 2 cores (the rigid backends cost the most): 16 x 16
+      // sheets (the paper's 30 x 30 is measured by `chainmail run` on the scene files themselves)
+      .scenes =
+          {
+              {"curtain.json", {"weave.rows=16", "weave.cols=16", "duration=1.0"}, quick_sheet},
+              {"table_cloth.json",
+               {"weave.rows=16", "weave.cols=16", "duration=1.0", "colliders.0.radius=0.03",
+                "support.radius=0.03"},
+               quick_sheet},
+              {"sphere_drape.json",
+               {"weave.rows=16", "weave.cols=16", "duration=1.0", "colliders.0.radius=0.03",
+                "colliders.0.center=[0,0.12,0]"},
+               quick_sheet},
+              {"chain_catenary.json", {}, {"weave.cols=8", "duration=0.05"}},
+              {"chain_pile.json",
+               {"weave.cols=40", "duration=1.0"},
+               {"weave.cols=6", "duration=0.05"}},
+          },
+      // error against run time: the curtain and the table cloth over each backend's dt
+      // (8 x 8 sheets, about 5 cm: the table shrinks to 1.5 cm so that the cloth drapes over it)
+      .sweeps =
+          {
+              {"curtain.json", {"weave.rows=8", "weave.cols=8", "duration=0.5"}, quick_sheet},
+              {"table_cloth.json",
+               {"weave.rows=8", "weave.cols=8", "duration=0.5", "colliders.0.radius=0.015",
+                "support.radius=0.015"},
+               quick_sheet},
+          },
+      .vary = "backends.{backend}.dt=0.008,0.004,0.002,0.001,0.0005",
+      .quick_vary = "backends.{backend}.dt=0.004,0.002",
+      .stability_watchdog_s = 10.0,
+      .quick_stability_watchdog_s = 5.0,
+  };
+  return plan;
+}
+
+namespace {
+
+using RenderWriter = std::function<void(const SceneRun&, const std::string&)>;
+
+// what the bench's steps share
+struct BenchRun {
+  const BenchCommand& command;
+  const BenchPlan& plan;
+  std::string scenes;   // the scene folder
+  std::string out;      // the staging folder
+  std::string cache;    // reference runs, inside `out`
+  RenderWriter render;  // empty: no images
+
+  std::vector<std::string> backends() const {
+    return command.backends.empty() ? std::vector<std::string>{kAllBackends} : command.backends;
+  }
+};
+
+// the final frame of every backend side by side (quick_sheet), when rendering is available
+RenderWriter bench_renderer(const BenchCommand& command) {
+  if (!command.render) return {};
+  try {
+    return make_render_writer("", "", /*last_only=*/true);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench: no frames rendered (%s)\n", e.what());
+    return {};
+  }
+}
+
+// timing.md, timing.csv and metrics.md as they fill
+struct BenchTables {
+  std::ostringstream timing, timing_csv, metrics;
+};
+
+void start_tables(BenchTables& t) {
+  t.timing << "# Timing\n\nms per step (wall time inside `step()` only), real-time factor "
+              "(simulated / wall seconds) and cost per simulated second relative to "
+              "`plausible`.\n\n"
+              "| scene | rings | backend | dt (s) | ms/step | real-time factor | cost vs plausible "
+              "| verdict |\n"
+              "|---|---|---|---|---|---|---|---|\n";
+  t.timing_csv << "scene,rings,backend,dt,steps,ms_per_step,realtime_factor,verdict,hash\n";
+  t.metrics << "# Final metrics\n\n`drape_rms` against each scene's reference backend (mm); "
+               "`catenary` is the chain's sag error against the analytic catenary; depths are the "
+               "deepest and mean interpenetration of linked (and of other) pairs in wire radii a; "
+               "settled: kinetic energy at the end below "
+            << table_number(100.0 * kSettledEnergyFraction, 3)
+            << " % of the energy released; overstretched: a link stretched above "
+            << table_number(1.0 + kOverstretchTolerance, 4)
+            << " (impossible for real rings).\n\n"
+               "| scene | backend | verdict | settled | overstretched | max_stretch | "
+               "mean_stretch | penetrating_linked | depth max/mean linked (a) | "
+               "penetrating_other | depth max/mean other (a) | broken_links | false_links | "
+               "drape_rms (mm) | drape_coefficient | catenary |\n"
+               "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+}
+
+// one scene's rows of the timing and metric tables
+void add_rows(BenchTables& t, const SceneRun& run) {
+  const Scene& scene = run.scene;
+  const double cost = plausible_cost(run.runs);
+  for (const auto& r : run.runs) {
+    t.timing << "| " << scene.name << " | " << run.weave.size() << " | " << r.name << " | "
+             << timing_cells(r, cost) << " | " << to_string(r.verdict) << " |\n";
+    t.timing_csv << scene.name << ',' << run.weave.size() << ',' << r.name << ','
+                 << csv_number(r.dt) << ',' << r.steps << ',' << csv_number(r.ms_per_step()) << ','
+                 << csv_number(r.realtime_factor()) << ',' << to_string(r.verdict) << ','
+                 << std::hex << r.hash << std::dec << '\n';
+    t.metrics << "| " << scene.name << " | " << r.name << " | " << to_string(r.verdict) << " | "
+              << yes_no_cell(r.settled) << " | " << yes_no_cell(r.overstretched) << " | "
+              << (r.started() ? final_metric_cells(r.final_metrics(), scene.ring.wire_radius)
+                              : missing_metric_cells())
+              << " | " << catenary_cell(r.catenary_error) << " |\n";
+  }
+}
+
+// every scene of the plan through every backend: its run folder and its table rows
+void run_scenes(const BenchRun& bench) {
+  BenchTables tables;
+  start_tables(tables);
+  for (const BenchStep& step : bench.plan.scenes) {
+    if (interrupted()) break;
+    const Scene scene =
+        load_scene_file(bench.scenes + step.file, step.overrides(bench.command.quick));
+    RunOptions options;
+    options.backends = bench.backends();
+    options.progress = bench.command.progress;
+    options.cache_dir = bench.cache;
+    options.folder = bench.out + "/" + scene.name;
+    options.keep_stream = static_cast<bool>(bench.render);
+    const SceneRun run = run_scene(scene, options);
+    OutputOptions output;
+    output.render = bench.render;
+    write_run_folder(run, options.folder, output);
+    add_rows(tables, run);
+  }
+  write_file_atomic(bench.out + "/timing.md", tables.timing.str());
+  write_file_atomic(bench.out + "/timing.csv", tables.timing_csv.str());
+  write_file_atomic(bench.out + "/metrics.md", tables.metrics.str());
+}
+
+// the plan's sweeps, each into sweep/<scene>/
+void run_sweeps(const BenchRun& bench) {
+  const bool quick = bench.command.quick;
+  for (const BenchStep& step : bench.plan.sweeps) {
+    if (interrupted()) break;
+    SweepCommand sweep;
+    sweep.scene_file = bench.scenes + step.file;
+    sweep.overrides = step.overrides(quick);
+    sweep.vary = {quick ? bench.plan.quick_vary : bench.plan.vary};
+    sweep.backends = bench.backends();
+    sweep.out_dir = bench.out + "/sweep/" + fs::path(step.file).stem().string();
+    sweep.jobs = bench.command.jobs;
+    sweep.executable = bench.command.executable;
+    sweep.progress = bench.command.progress;
+    sweep.cache_dir = bench.cache;
+    sweep_command(sweep);
+  }
+}
+
+// the stiff and extreme cases into stability/
+void run_stability(const BenchRun& bench) {
+  const bool quick = bench.command.quick;
+  StabilityCommand stability;
+  stability.backends = bench.command.backends;
+  stability.out_dir = bench.out + "/stability";
+  stability.quick = quick;
+  stability.max_wall_seconds =
+      quick ? bench.plan.quick_stability_watchdog_s : bench.plan.stability_watchdog_s;
+  stability.progress = bench.command.progress;
+  stability_command(stability);
+}
+
+std::string bench_readme(double minutes) {
+  std::ostringstream readme;
+  readme
+      << "# Results of `chainmail bench`\n\n"
+         "Regenerate with `./scripts/bench.sh` (or `chainmail bench --out results/bench`). Every "
+         "scene "
+         "runs through every backend from the same rest layout; numbers below come from one "
+         "run on the machine that produced them (2 cores), so compare ratios, not absolutes.\n\n"
+         "- `timing.md` / `timing.csv` — ms per step, real-time factor, cost relative to "
+         "`plausible`, verdict and final-frame hash for each scene and backend.\n"
+         "- `metrics.md` — final metrics: stretch (centre distance / inner diameter; above 1 is "
+         "impossible for real rings), interpenetrating pairs among neighbours and others, broken "
+         "and false links, drape error against the reference backend, Cusick drape coefficient "
+         "(table_cloth), catenary sag error (chain_catenary).\n"
+         "- `<scene>/` — each scene's `summary.json`, `metrics.csv` (every sample), `table.md` and "
+         "`images/` (the final frame of every backend side by side, when rendering is available).\n"
+         "- `sweep/<scene>/` — error against run time: the curtain and the table cloth (8 x 8) at "
+         "a range of dt per backend; `sweep.csv` (wall seconds per simulated second, drape error "
+         "against the reference run) and `sweep.png` (log-log, Pareto front marked).\n"
+         "- `stability/` — the stiff and extreme cases: verdict at default settings and the "
+         "largest stable dt found by bisection.\n"
+         "- `stability/` is written last; the gallery (`../curtain_30x30/`), the shader "
+         "pictures (`../shaders/`) and the renderer benchmark (`../micro_render.csv`) come from "
+         "their own scripts, not from `bench`.\n";
+  char took[96];
+  std::snprintf(took, sizeof took, "\nThis bench took %.1f minutes.\n", minutes);
+  readme << took;
+  if (interrupted()) readme << "\nInterrupted: only what finished is here.\n";
+  return readme.str();
+}
+
+}  // namespace
+
+int bench_command(const BenchCommand& command) {
+  const auto started = std::chrono::steady_clock::now();
+  const BenchPlan& plan = bench_plan();
+  const std::string scenes = source_dir() + "/bench/scenes/";
+  // bad names are bad input before anything runs or is written
+  if (!command.backends.empty())
+    select_backends(load_scene_file(scenes + plan.scenes[0].file), command.backends);
+  OutputFolder folder = OutputFolder::claim(command.out_dir, "bench", command.force);
+  // reference runs are cached by scene, knobs and build; a bench still starts with a cache of its
+  // own (inside its staging folder, gone when it is done) so it measures every reference afresh
+  const BenchRun bench{command,
+                       plan,
+                       scenes,
+                       folder.staging(),
+                       folder.staging() + "/.cache",
+                       bench_renderer(command)};
+
+  run_scenes(bench);
+  run_sweeps(bench);
+  if (!interrupted()) run_stability(bench);
+
+  const double minutes =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() / 60.0;
+  write_file_atomic(bench.out + "/README.md", bench_readme(minutes));
+  std::error_code ignored;
+  fs::remove_all(bench.cache, ignored);
+  folder.commit();
+  std::fprintf(stderr, "bench: wrote %s in %.1f min%s\n", command.out_dir.c_str(), minutes,
+               interrupted() ? " (interrupted)" : "");
+  // instabilities are findings written to the tables, not a failed bench
+  return interrupted() ? kExitInterrupted : kExitOk;
+}
+
+}  // namespace chainmail

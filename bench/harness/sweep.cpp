@@ -1,0 +1,273 @@
+#include "bench/harness/sweep.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include "backends/backend.hpp"
+#include "bench/harness/budget.hpp"
+#include "bench/harness/commands.hpp"
+#include "bench/harness/interrupt.hpp"
+#include "bench/harness/output.hpp"
+#include "bench/harness/output_folder.hpp"
+#include "bench/harness/process.hpp"
+#include "bench/harness/run.hpp"
+#include "bench/harness/scene_file.hpp"
+#include "bench/harness/usage_error.hpp"
+
+namespace chainmail {
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+std::vector<SweepAxis> parse_vary(const std::vector<std::string>& vary) {
+  std::vector<SweepAxis> axes;
+  for (const auto& v : vary) {
+    const auto eq = v.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == v.size()) {
+      throw UsageError("--vary '" + v + "': expected KEY=v1,v2,...");
+    }
+    SweepAxis axis{v.substr(0, eq), {}};
+    std::stringstream values(v.substr(eq + 1));
+    for (std::string value; std::getline(values, value, ',');) axis.values.push_back(value);
+    axes.push_back(axis);
+  }
+  if (axes.empty()) throw UsageError("--vary: at least one KEY=v1,v2,... is needed");
+  return axes;
+}
+
+namespace {
+
+// in a --vary key: each backend's own name
+constexpr std::string_view kBackendPlaceholder = "{backend}";
+
+// the point at one index per axis, for one backend
+SweepPoint grid_point(const std::vector<SweepAxis>& axes, const std::vector<size_t>& index,
+                      const std::string& backend) {
+  SweepPoint p{backend, {}, {}};
+  for (size_t a = 0; a < axes.size(); ++a) {
+    std::string key = axes[a].key;
+    const auto placeholder = key.find(kBackendPlaceholder);
+    if (placeholder != std::string::npos)
+      key.replace(placeholder, kBackendPlaceholder.size(), backend);
+    const std::string& value = axes[a].values[index[a]];
+    // another backend's knob does not change this backend's run
+    const bool other =
+        key.rfind("backends.", 0) == 0 && key.rfind("backends." + backend + ".", 0) != 0;
+    p.values.push_back(other ? "" : value);
+    if (!other) p.sets.push_back(key + "=" + value);
+  }
+  return p;
+}
+
+}  // namespace
+
+std::vector<SweepPoint> sweep_grid(const std::vector<SweepAxis>& axes,
+                                   const std::vector<std::string>& backends) {
+  std::vector<SweepPoint> points;
+  for (const auto& axis : axes) {
+    if (axis.values.empty()) return points;  // an empty axis leaves no point
+  }
+  for (const auto& backend : backends) {
+    std::vector<size_t> index(axes.size(), 0);
+    std::vector<std::vector<std::string>> seen;
+    while (true) {
+      SweepPoint p = grid_point(axes, index, backend);
+      if (std::find(seen.begin(), seen.end(), p.sets) == seen.end()) {
+        seen.push_back(p.sets);
+        points.push_back(p);
+      }
+      // the next index, the first axis fastest
+      size_t a = 0;
+      while (a < axes.size() && ++index[a] == axes[a].values.size()) index[a++] = 0;
+      if (a == axes.size()) break;
+    }
+  }
+  return points;
+}
+
+double reference_run_dt(double scene_reference_dt, double scene_dt,
+                        const std::vector<double>& swept_dts) {
+  if (scene_reference_dt > 0.0) return scene_reference_dt;
+  double dt = scene_dt;
+  for (double swept : swept_dts) dt = std::min(dt, swept);
+  return dt;
+}
+
+namespace {
+
+// what every point's `chainmail run` command line shares
+struct SweepJobs {
+  std::string executable, scene_file, cache;  // cache "" = none
+  std::vector<std::string> overrides;         // the command's own, before each point's
+  std::string reference_set;                  // reference_dt=..., after each point's
+
+  // point k's command line, writing into `folder` (argv form, no shell in between)
+  std::vector<std::string> args(const SweepPoint& p, size_t k, const std::string& folder) const {
+    std::vector<std::string> args = {executable,
+                                     "run",
+                                     scene_file,
+                                     "--backends",
+                                     p.backend,
+                                     "--out",
+                                     folder + "/points/" + std::to_string(k),
+                                     "--cache",
+                                     cache.empty() ? "none" : cache,
+                                     "--quiet"};
+    for (const auto& s : overrides) args.insert(args.end(), {"--set", s});
+    for (const auto& s : p.sets) args.insert(args.end(), {"--set", s});
+    args.insert(args.end(), {"--set", reference_set});
+    return args;
+  }
+};
+
+// each point's scene checked before anything runs (a bad value is bad input); returns each
+// point's time step for its own backend, s
+std::vector<double> check_points(const SweepCommand& command,
+                                 const std::vector<SweepPoint>& points) {
+  std::vector<double> dts;
+  for (const SweepPoint& p : points) {
+    std::vector<std::string> sets = command.overrides;
+    sets.insert(sets.end(), p.sets.begin(), p.sets.end());
+    const Scene scene = load_scene_file(command.scene_file, sets);
+    validate_backend_knobs(scene);
+    check_budget(scene, estimate_run(scene, {p.backend}, 0.0), Budget{});
+    dts.push_back(resolve_knobs(scene, *find_backend(p.backend)).at("dt"));
+  }
+  return dts;
+}
+
+// every point is measured against one reference run, whatever the point's knobs
+double sweep_reference_dt(const Scene& base, const std::vector<SweepPoint>& points,
+                          const std::vector<double>& dts) {
+  std::vector<double> swept;
+  for (size_t k = 0; k < points.size(); ++k) {
+    if (points[k].backend == base.reference) swept.push_back(dts[k]);
+  }
+  const BackendInfo* reference = find_backend(base.reference);
+  const double scene_dt = reference ? resolve_knobs(base, *reference).at("dt") : 0.0;
+  return reference_run_dt(base.reference_dt, scene_dt, swept);
+}
+
+void print_jobs(const SweepJobs& jobs, const std::vector<SweepPoint>& points,
+                const std::string& out) {
+  for (size_t k = 0; k < points.size(); ++k) {
+    std::string line;
+    for (const auto& a : jobs.args(points[k], k, out)) {
+      if (!line.empty()) line += ' ';
+      line += shell_quote(a);
+    }
+    std::printf("%s\n", line.c_str());
+  }
+}
+
+// the reference run once, before the points share it through the cache
+void cache_reference(const SweepCommand& command, const SweepJobs& jobs) {
+  RunOptions options;
+  options.progress = command.progress;
+  options.cache_dir = jobs.cache;
+  std::vector<std::string> sets = command.overrides;
+  sets.push_back(jobs.reference_set);
+  const Scene scene = load_scene_file(command.scene_file, sets);
+  if (!jobs.cache.empty() && !interrupted())
+    ensure_reference_cached(scene, scene.reference, options);
+}
+
+void run_points(const SweepCommand& command, const SweepJobs& jobs,
+                const std::vector<SweepPoint>& points, const std::string& staging) {
+  fs::create_directories(staging + "/points");
+  std::mutex print;
+  std::atomic<int> done{0};
+  run_parallel(static_cast<int>(points.size()), command.jobs, [&](int k) {
+    if (interrupted()) return;
+    run_child(jobs.args(points[k], k, staging), staging + "/points/" + std::to_string(k) + ".log");
+    std::lock_guard<std::mutex> lock(print);
+    if (command.progress) std::fprintf(stderr, "  sweep point %d / %zu\n", ++done, points.size());
+  });
+}
+
+// one row of sweep.csv from the point's summary.json; false when it did not end stable
+bool sweep_row(const SweepPoint& p, const std::string& summary_file, std::ostringstream& csv) {
+  csv << p.backend;
+  for (const auto& v : p.values) csv << ',' << v;
+  std::ifstream in(summary_file);
+  json summary = json::parse(in, nullptr, false);
+  if (summary.is_discarded() || !summary["backends"].contains(p.backend)) {
+    csv << ",,,,,false," << (interrupted() ? "interrupted" : "error") << "\n";
+    return false;
+  }
+  const json& b = summary["backends"][p.backend];
+  auto number = [](const json& v) { return v.is_number() ? v.get<double>() : NAN; };
+  // cost per simulated second of what was simulated: an unstable run stops early
+  const double simulated = number(b["steps"]) * number(b["dt"]);
+  const double duration = simulated > 0.0 ? simulated : number(summary["scene"]["duration"]);
+  const double error = b["final"].contains("drape_rms") ? number(b["final"]["drape_rms"]) : NAN;
+  const double cat = b.contains("catenary_error") ? number(b["catenary_error"]) : NAN;
+  csv << ',' << csv_number(number(b["wall_s"]) / duration) << ','
+      << csv_number(number(b["ms_per_step"])) << ',' << csv_number(error) << ',' << csv_number(cat)
+      << ',' << (b["stable"].get<bool>() ? "true" : "false") << ','
+      << b["verdict"].get<std::string>() << '\n';
+  return b["stable"].get<bool>();
+}
+
+// sweep.csv, one row per point read back from each point's summary.json; returns the number of
+// points that did not end stable
+int write_sweep_csv(const std::vector<SweepAxis>& axes, const std::vector<SweepPoint>& points,
+                    const std::string& staging) {
+  std::ostringstream csv;
+  csv << "backend";
+  for (const auto& axis : axes) csv << ',' << axis.key;
+  csv << ",wall_per_sim_s,ms_per_step,error_m,catenary_error,stable,verdict\n";
+  int unstable = 0;
+  for (size_t k = 0; k < points.size(); ++k) {
+    const std::string summary = staging + "/points/" + std::to_string(k) + "/summary.json";
+    unstable += !sweep_row(points[k], summary, csv);
+  }
+  write_file_atomic(staging + "/sweep.csv", csv.str());
+  return unstable;
+}
+
+}  // namespace
+
+int sweep_command(const SweepCommand& command) {
+  const Scene base = load_scene_file(command.scene_file, command.overrides);
+  validate_backend_knobs(base);
+  const std::vector<std::string> names = select_backends(base, command.backends);
+  const std::vector<SweepAxis> axes = parse_vary(command.vary);
+  const std::vector<SweepPoint> points = sweep_grid(axes, names);
+  const std::vector<double> dts = check_points(command, points);
+
+  const std::string out =
+      command.out_dir.empty() ? "results/" + base.name + "/sweep" : command.out_dir;
+  SweepJobs jobs;
+  jobs.executable = command.executable.empty() ? "chainmail" : command.executable;
+  jobs.scene_file = command.scene_file;
+  jobs.cache = resolve_cache_dir(command.cache_dir);
+  jobs.overrides = command.overrides;
+  jobs.reference_set = "reference_dt=" + csv_number(sweep_reference_dt(base, points, dts));
+  if (command.print_jobs) {
+    print_jobs(jobs, points, out);
+    return kExitOk;
+  }
+
+  OutputFolder folder = OutputFolder::claim(out, "sweep", command.force);
+  const std::string staging = folder.staging();
+  cache_reference(command, jobs);
+  run_points(command, jobs, points, staging);
+  const int unstable = write_sweep_csv(axes, points, staging);
+  if (!interrupted())
+    make_plot("plot_sweep.py", {staging + "/sweep.csv", staging + "/sweep.png", base.name});
+  folder.commit();
+  std::fprintf(stderr, "wrote %s/sweep.csv (%zu points, %d unstable)%s\n", out.c_str(),
+               points.size(), unstable, interrupted() ? " (interrupted)" : "");
+  return interrupted() ? kExitInterrupted : kExitOk;
+}
+
+}  // namespace chainmail

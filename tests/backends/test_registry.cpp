@@ -1,0 +1,231 @@
+// The registry: which backends the project has and which this binary was built with, every
+// backend's knob table (ranges, defaults, the binding to its settings, docs/backends.md), and the
+// check of a scene's backend sections.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "backend_sim.hpp"
+
+namespace chainmail {
+namespace {
+
+using json = nlohmann::json;
+
+#if CHAINMAIL_HAVE_BULLET
+constexpr bool kBulletBuilt = true;
+#else
+constexpr bool kBulletBuilt = false;
+#endif
+#if CHAINMAIL_HAVE_ODE
+constexpr bool kOdeBuilt = true;
+#else
+constexpr bool kOdeBuilt = false;
+#endif
+
+Scene scene_with(const json& backends, const std::string& reference = "plausible") {
+  return scene_from_json({{"name", "knobs"},
+                          {"weave", {{"type", "chain"}, {"cols", 2}}},
+                          {"duration", 1.0},
+                          {"reference", reference},
+                          {"backends", backends}},
+                         "scene.json");
+}
+
+TEST(Registry, KnowsEveryBackendAndHasTheBuiltOnesInTheSameOrder) {
+  const std::vector<std::string>& known = known_backend_names();
+  EXPECT_EQ(known, (std::vector<std::string>{"plausible", "massspring", "bullet", "ode"}));
+  auto next = known.begin();
+  for (const BackendInfo& info : backend_registry()) {
+    next = std::find(next, known.end(), info.name);
+    ASSERT_NE(next, known.end()) << info.name << ": unknown or out of order";
+    ++next;
+    EXPECT_EQ(find_backend(info.name), &info);
+    EXPECT_STREQ(info.create()->name(), info.name.c_str());
+  }
+  // the build options decide the optional ones; the others are always there
+  EXPECT_TRUE(backend_built("plausible"));
+  EXPECT_TRUE(backend_built("massspring"));
+  EXPECT_EQ(backend_built("bullet"), kBulletBuilt);
+  EXPECT_EQ(backend_built("ode"), kOdeBuilt);
+  for (const std::string& name : known) EXPECT_TRUE(backend_known(name)) << name;
+  EXPECT_FALSE(backend_known("havok"));
+  EXPECT_FALSE(backend_built("havok"));
+  EXPECT_EQ(find_backend("havok"), nullptr);
+}
+
+TEST(Registry, RefusesAnUnknownBackendNamingEveryKnownOne) {
+  try {
+    validate_backend_knobs(scene_with({{"havok", json::object()}}));
+    FAIL() << "no error";
+  } catch (const SceneError& error) {
+    EXPECT_STREQ(error.what(),
+                 "scene.json: key 'backends.havok': unknown backend (known: plausible, "
+                 "massspring, bullet, ode)");
+  }
+  try {
+    validate_backend_knobs(scene_with(json::object(), "havok"));
+    FAIL() << "no error";
+  } catch (const SceneError& error) {
+    EXPECT_STREQ(error.what(), "scene.json: key 'reference': unknown backend 'havok'");
+  }
+}
+
+TEST(Registry, SkipsTheSectionOfABackendThatIsNotBuiltWithANote) {
+  for (const std::string& name : known_backend_names()) {
+    SCOPED_TRACE(name);
+    // a knob no backend has: refused by a built backend, unchecked for one that is not built
+    const Scene scene = scene_with({{name, {{"no_such_knob", 1}}}}, name);
+    if (backend_built(name)) {
+      EXPECT_THROW(validate_backend_knobs(scene), SceneError);
+      EXPECT_TRUE(validate_backend_knobs(scene_with({{name, json::object()}}, name)).empty());
+    } else {
+      const std::string note =
+          "backends." + name + ": not built into this binary, its knobs are not checked";
+      EXPECT_EQ(validate_backend_knobs(scene), std::vector<std::string>{note});
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// every backend's knob table
+
+class KnobTableContract : public ::testing::TestWithParam<std::string> {
+ protected:
+  void SetUp() override { test::skip_unless_built(GetParam()); }
+  const BackendInfo& info() const { return *find_backend(GetParam()); }
+};
+
+bool integral(double value) { return std::floor(value) == value; }
+
+TEST_P(KnobTableContract, DeclaresDtAndDefaultsWithinRange) {
+  const KnobSpec* dt = find_knob(info(), "dt");
+  ASSERT_NE(dt, nullptr);
+  EXPECT_EQ(dt->type, KnobSpec::Type::number);
+  EXPECT_GT(dt->min, 0.0);
+  std::set<std::string> names;
+  for (const KnobSpec& spec : info().knobs) {
+    SCOPED_TRACE(spec.name);
+    EXPECT_TRUE(names.insert(spec.name).second) << "declared twice";
+    EXPECT_FALSE(spec.help.empty());
+    EXPECT_LE(spec.min, spec.default_value);
+    EXPECT_LE(spec.default_value, spec.max);
+    if (spec.type == KnobSpec::Type::integer) {
+      EXPECT_TRUE(integral(spec.min) && integral(spec.max) && integral(spec.default_value));
+    }
+    if (spec.type == KnobSpec::Type::boolean) {
+      EXPECT_EQ(spec.min, 0.0);
+      EXPECT_EQ(spec.max, 1.0);
+      EXPECT_TRUE(spec.default_value == 0.0 || spec.default_value == 1.0);
+    }
+  }
+}
+
+// a value of the knob's range other than its default
+double another_value(const KnobSpec& spec) {
+  if (spec.type == KnobSpec::Type::boolean) return 1.0 - spec.default_value;
+  const double value = spec.default_value < spec.max ? spec.max : spec.min;
+  return spec.type == KnobSpec::Type::integer ? std::floor(value) : value;
+}
+
+TEST_P(KnobTableContract, BindsEveryKnobButDtToAFieldOfItsOwn) {
+  ASSERT_TRUE(info().knob_round_trip);
+  const Knobs defaults = resolve_knobs(scene_with(json::object()), info());
+  Knobs bound = defaults;
+  bound.erase("dt");  // it reaches a model only through step(dt)
+  // the defaults are the default settings struct's fields: filled in and read back unchanged
+  EXPECT_EQ(info().knob_round_trip(defaults), bound);
+  // one knob changed at a time comes back changed, and alone: no knob writes another's field
+  for (const KnobSpec& spec : info().knobs) {
+    if (spec.name == "dt") continue;
+    SCOPED_TRACE(spec.name);
+    Knobs changed = defaults;
+    changed[spec.name] = another_value(spec);
+    ASSERT_NE(changed[spec.name], spec.default_value);
+    Knobs expected = bound;
+    expected[spec.name] = changed[spec.name];
+    EXPECT_EQ(info().knob_round_trip(changed), expected);
+  }
+}
+
+// one row of a knob table in docs/backends.md
+struct DocumentedKnob {
+  std::string name, type, default_text, range_text;
+};
+
+// the knob table under the heading "### `<backend>`" of docs/backends.md
+std::vector<DocumentedKnob> documented_knobs(const std::string& backend) {
+  std::ifstream file(std::string(CHAINMAIL_SOURCE_DIR) + "/docs/backends.md");
+  std::string line;
+  while (std::getline(file, line) && line != "### `" + backend + "`") {
+  }
+  std::vector<DocumentedKnob> rows;
+  while (std::getline(file, line) && !line.starts_with("| `")) {
+  }
+  for (; file && line.starts_with("| `"); std::getline(file, line)) {
+    std::vector<std::string> cells;
+    std::stringstream row(line.substr(1));
+    for (std::string cell; std::getline(row, cell, '|');) {
+      const auto first = cell.find_first_not_of(' '), last = cell.find_last_not_of(' ');
+      cells.push_back(first == std::string::npos ? "" : cell.substr(first, last - first + 1));
+    }
+    if (cells.size() < 4) break;
+    rows.push_back({cells[0].substr(1, cells[0].size() - 2), cells[1], cells[2], cells[3]});
+  }
+  return rows;
+}
+
+// a number as the docs write it: 0.004, 1e-6, 1/2700 ≈ 3.7037e-4, π/2, true, false
+double documented_value(std::string text) {
+  if (text == "true") return 1.0;
+  if (text == "false") return 0.0;
+  if (const auto approx = text.find(" ≈"); approx != std::string::npos) text.resize(approx);
+  const auto slash = text.find('/');
+  const std::string numerator = text.substr(0, slash);
+  const double value = numerator == "π" ? std::numbers::pi : std::stod(numerator);
+  return slash == std::string::npos ? value : value / std::stod(text.substr(slash + 1));
+}
+
+const char* type_name(KnobSpec::Type type) {
+  switch (type) {
+    case KnobSpec::Type::number: return "number";
+    case KnobSpec::Type::integer: return "integer";
+    case KnobSpec::Type::boolean: return "boolean";
+  }
+  return "";
+}
+
+TEST_P(KnobTableContract, MatchesTheDocumentedTable) {
+  const std::vector<DocumentedKnob> rows = documented_knobs(GetParam());
+  ASSERT_EQ(rows.size(), info().knobs.size()) << "docs/backends.md lists another number of knobs";
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const KnobSpec& spec = info().knobs[k];
+    SCOPED_TRACE(spec.name);
+    EXPECT_EQ(rows[k].name, spec.name) << "in the same order";
+    EXPECT_EQ(rows[k].type, type_name(spec.type));
+    EXPECT_EQ(documented_value(rows[k].default_text), spec.default_value);
+    if (spec.type == KnobSpec::Type::boolean) continue;  // the range column is empty
+    const std::string& range = rows[k].range_text;  // "[min, max] unit"
+    const auto comma = range.find(','), close = range.find(']');
+    ASSERT_TRUE(range.starts_with("[") && comma < close && close != std::string::npos) << range;
+    EXPECT_EQ(documented_value(range.substr(1, comma - 1)), spec.min);
+    EXPECT_EQ(documented_value(range.substr(comma + 2, close - comma - 2)), spec.max);
+  }
+}
+
+std::string backend_name(const ::testing::TestParamInfo<std::string>& info) { return info.param; }
+
+INSTANTIATE_TEST_SUITE_P(Every, KnobTableContract, ::testing::ValuesIn(known_backend_names()),
+                         backend_name);
+
+}  // namespace
+}  // namespace chainmail
