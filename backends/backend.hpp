@@ -59,6 +59,12 @@ const std::vector<BackendInfo>& backend_registry();
 const std::vector<std::string>& known_backend_names();
 bool backend_known(const std::string& name);
 bool backend_built(const std::string& name);                // known and built into this binary
+// names of backend_registry(), in its order
+std::vector<std::string> built_backend_names();
+// known to the project but not built into this binary (CHAINMAIL_WITH_BULLET=OFF, ...)
+bool backend_known_unbuilt(const std::string& name);
+// "a, b, c", for messages
+std::string join_names(const std::vector<std::string>& names);
 const BackendInfo* find_backend(const std::string& name);  // nullptr when unknown or not built
 const KnobSpec* find_knob(const BackendInfo& backend, const std::string& name);  // nullptr: none
 

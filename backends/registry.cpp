@@ -50,13 +50,6 @@ const Registry& registry() {
   return all;
 }
 
-// "a, b, c"
-std::string joined(const std::vector<std::string>& names) {
-  std::string text;
-  for (const auto& name : names) text += (text.empty() ? "" : ", ") + name;
-  return text;
-}
-
 std::vector<std::string> knob_names(const BackendInfo& backend) {
   std::vector<std::string> names;
   for (const auto& spec : backend.knobs) names.push_back(spec.name);
@@ -118,7 +111,7 @@ Knobs resolve_knobs(const Scene& scene, const BackendInfo& backend) {
     const std::string key = prefix + "." + name + "'";
     const KnobSpec* spec = find_knob(backend, name);
     if (!spec) {
-      throw SceneError(key + ": unknown knob (known: " + joined(knob_names(backend)) + ")");
+      throw SceneError(key + ": unknown knob (known: " + join_names(knob_names(backend)) + ")");
     }
     check_kind(*spec, given, key);
     const double value = given.value;
@@ -137,7 +130,7 @@ std::vector<std::string> validate_backend_knobs(const Scene& scene) {
   for (const auto& [name, section] : scene.backends) {
     if (!backend_known(name)) {
       throw SceneError(scene.file + ": key 'backends." + name + "': unknown backend (known: " +
-                       joined(known_backend_names()) + ")");
+                       join_names(known_backend_names()) + ")");
     }
     if (const BackendInfo* info = find_backend(name)) {
       resolve_knobs(scene, *info);
@@ -150,6 +143,22 @@ std::vector<std::string> validate_backend_knobs(const Scene& scene) {
     throw SceneError(scene.file + ": key 'reference': unknown backend '" + scene.reference + "'");
   }
   return notes;
+}
+
+std::vector<std::string> built_backend_names() {
+  std::vector<std::string> names;
+  for (const auto& info : backend_registry()) names.push_back(info.name);
+  return names;
+}
+
+bool backend_known_unbuilt(const std::string& name) {
+  return backend_known(name) && !backend_built(name);
+}
+
+std::string join_names(const std::vector<std::string>& names) {
+  std::string text;
+  for (const auto& name : names) text += (text.empty() ? "" : ", ") + name;
+  return text;
 }
 
 }  // namespace chainmail

@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "bench/harness/backend_names.hpp"
+#include "backends/backend.hpp"
 #include "bench/harness/output.hpp"
 #include "bench/harness/output_folder.hpp"
 #include "bench/harness/render_output.hpp"

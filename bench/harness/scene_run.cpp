@@ -9,7 +9,7 @@
 #include <memory>
 #include <stdexcept>
 
-#include "bench/harness/backend_names.hpp"
+#include "backends/backend.hpp"
 #include "bench/harness/frame_stream.hpp"
 #include "bench/harness/interrupt.hpp"
 #include "bench/harness/output.hpp"

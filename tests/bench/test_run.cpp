@@ -5,7 +5,7 @@
 
 #include <limits>
 
-#include "bench/harness/backend_names.hpp"
+#include "backends/backend.hpp"
 #include "bench/harness/commands.hpp"
 #include "bench/harness/frame_stream.hpp"
 #include "bench/harness/output.hpp"

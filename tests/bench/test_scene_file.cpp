@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "bench/harness/scene_file.hpp"
+#include "scene_documents.hpp"
 #include "core/weave.hpp"
 
 namespace chainmail {
@@ -16,10 +17,7 @@ namespace {
 
 using json = nlohmann::json;
 
-json minimal_scene() {
-  return json{
-      {"name", "t"}, {"weave", {{"type", "4in1"}, {"rows", 4}, {"cols", 5}}}, {"duration", 0.1}};
-}
+using test::minimal_scene;
 
 // the message of the SceneError the document raises ("" when it loads)
 std::string error_of(const json& document) {

@@ -6,16 +6,14 @@
 #include <string>
 
 #include "bench/harness/scene_file.hpp"
+#include "scene_documents.hpp"
 
 namespace chainmail {
 namespace {
 
 using json = nlohmann::json;
 
-json minimal_scene() {
-  return json{
-      {"name", "t"}, {"weave", {{"type", "4in1"}, {"rows", 4}, {"cols", 5}}}, {"duration", 0.1}};
-}
+using test::minimal_scene;
 
 std::set<std::string> keys_of(const json& object) {
   std::set<std::string> keys;
