@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "bench/harness/scene_file.hpp"
+#include "bench/harness/table_cells.hpp"
 #include "bench/harness/version.hpp"
 
 namespace chainmail {
@@ -138,20 +139,6 @@ std::string metrics_row(const std::string& backend, const Sample& s) {
   return row + "," + csv_number(s.step_wall_ms) + "\n";
 }
 
-namespace {
-
-// a flag cell: yes / no / - (not decided)
-const char* flag(const std::optional<bool>& value) {
-  return value ? (*value ? "yes" : "no") : "-";
-}
-
-// a depth in units of the wire radius a
-std::string in_wire_radii(double depth_m, double a) {
-  return table_number(depth_m / a, 3);
-}
-
-}  // namespace
-
 std::string table_markdown(const SceneRun& run) {
   std::ostringstream out;
   const Scene& scene = run.scene;
@@ -163,12 +150,9 @@ std::string table_markdown(const SceneRun& run) {
   if (run.reference_note) out << "; " << *run.reference_note;
   out << ".\n\n";
 
-  double plausible_ms = 0.0;
+  const double plausible_ms = plausible_cost(run.runs);
   bool catenary = false;
-  for (const auto& b : run.runs) {
-    if (b.name == "plausible" && b.dt > 0) plausible_ms = b.ms_per_step() / b.dt;
-    catenary |= b.catenary_error.has_value();
-  }
+  for (const auto& b : run.runs) catenary |= b.catenary_error.has_value();
   out << "| backend | dt (s) | ms/step | real-time factor | cost vs plausible | verdict | settled |"
          " overstretched | max_stretch | mean_stretch | penetrating_linked | depth max/mean "
          "linked (a) | penetrating_other | depth max/mean other (a) | broken_links | false_links |"
@@ -177,28 +161,11 @@ std::string table_markdown(const SceneRun& run) {
   out << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
       << (catenary ? "---|" : "") << "\n";
   for (const auto& b : run.runs) {
-    // cost per simulated second relative to plausible's
-    const double relative = plausible_ms > 0 ? (b.ms_per_step() / b.dt) / plausible_ms : NAN;
-    out << "| " << b.name << " | " << b.dt << " | " << table_number(b.ms_per_step(), 4) << " | "
-        << table_number(b.realtime_factor(), 3) << " | "
-        << (std::isnan(relative) ? "-" : table_number(relative, 3) + "x") << " | "
-        << to_string(b.verdict) << " | " << flag(b.settled) << " | " << flag(b.overstretched)
-        << " | ";
-    if (!b.started()) {
-      out << "- | - | - | - | - | - | - | - | - | - |" << (catenary ? " - |" : "") << "\n";
-      continue;
-    }
-    const Metrics& m = b.final_metrics();
-    out << table_number(m.max_stretch, 4) << " | " << table_number(m.mean_stretch, 4) << " | "
-        << m.penetrating_linked << " | " << in_wire_radii(m.penetration_max_linked, a) << " / "
-        << in_wire_radii(m.penetration_mean_linked, a) << " | " << m.penetrating_other << " | "
-        << in_wire_radii(m.penetration_max_other, a) << " / "
-        << in_wire_radii(m.penetration_mean_other, a) << " | " << m.broken_links << " | "
-        << m.false_links << " | " << (m.drape_rms ? table_number(1e3 * *m.drape_rms, 3) : "-")
-        << " | " << (m.drape_coefficient ? table_number(*m.drape_coefficient, 3) : "-") << " |";
-    if (catenary)
-      out << " " << (b.catenary_error ? table_number(100.0 * *b.catenary_error, 3) + " %" : "-")
-          << " |";
+    out << "| " << b.name << " | " << timing_cells(b, plausible_ms) << " | " << to_string(b.verdict)
+        << " | " << yes_no_cell(b.settled) << " | " << yes_no_cell(b.overstretched) << " | "
+        << (b.started() ? final_metric_cells(b.final_metrics(), a) : missing_metric_cells())
+        << " |";
+    if (catenary) out << " " << (b.started() ? catenary_cell(b.catenary_error) : "-") << " |";
     out << "\n";
   }
   out << "\nms/step counts `step()` only; real-time factor = simulated / wall seconds. Depths are "
