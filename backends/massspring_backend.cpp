@@ -15,6 +15,7 @@ massspring::Settings settings_from(const Scene& scene, const Weave& weave, const
   s.shear_ks = knobs.at("shear_ks");
   s.bend_ks = knobs.at("bend_ks");
   s.damping_percent = knobs.at("damping_percent");
+  s.damp_rigid = knobs.at("damp_rigid") != 0.0;
   s.correction_passes = static_cast<int>(knobs.at("correction_passes"));
   s.max_extension = knobs.at("max_extension");
   s.areal_density = knobs.at("areal_density");
@@ -90,7 +91,10 @@ BackendInfo massspring_backend_info() {
       {"ks", T::number, 5000.0, 0.0, 1e9, "structural spring constant, N/m"},
       {"shear_ks", T::number, 5000.0, 0.0, 1e9, "shear spring constant, N/m"},
       {"bend_ks", T::number, 1000.0, 0.0, 1e9, "bending spring constant, N/m"},
-      {"damping_percent", T::number, 0.2, 0.0, 100.0, "Verlet damping, percent per step"},
+      {"damping_percent", T::number, 0.2, 0.0, 100.0,
+       "Verlet damping, percent per 1/2700 s (the document's step) of motion other than rigid"},
+      {"damp_rigid", T::boolean, 0.0, 0.0, 1.0,
+       "damping slows all motion, rigid motion included (the document's drag)"},
       {"correction_passes", T::integer, 1, 0, 10000,
        "over-extension correction passes per step (0 = off)"},
       {"max_extension", T::number, 0.1, 0.0, 10.0, "largest spring extension, fraction of rest"},

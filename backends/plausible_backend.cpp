@@ -13,6 +13,7 @@ class PlausibleBackend final : public Backend {
     settings.iterations = static_cast<int>(knobs.at("iterations"));
     settings.max_link_fraction = knobs.at("max_link_fraction");
     settings.damping = knobs.at("damping");
+    settings.damp_rigid = knobs.at("damp_rigid") != 0.0;
     settings.repulsion_fraction = knobs.at("repulsion_fraction");
     settings.repulsion_stiffness = knobs.at("repulsion_stiffness");
     settings.contact_skin = knobs.at("contact_skin");
@@ -47,7 +48,10 @@ BackendInfo plausible_backend_info() {
        "constraint sweeps per step"},
       {"max_link_fraction", T::number, d.max_link_fraction, 0.2, 1.0,
        "largest neighbour distance / inner diameter"},
-      {"damping", T::number, d.damping, 0.0, 1000.0, "velocity drag, 1/s"},
+      {"damping", T::number, d.damping, 0.0, 1000.0,
+       "damping of motion other than rigid motion of the whole, 1/s"},
+      {"damp_rigid", T::boolean, d.damp_rigid ? 1.0 : 0.0, 0.0, 1.0,
+       "damping slows all motion, rigid motion included (a drag)"},
       {"repulsion_fraction", T::number, d.repulsion_fraction, 0.0, 2.0,
        "non-neighbour repulsion range / inner diameter"},
       {"repulsion_stiffness", T::number, d.repulsion_stiffness, 0.0, 1e9, "N/m"},

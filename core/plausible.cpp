@@ -7,9 +7,15 @@
 
 #include "core/colliders.hpp"
 #include "core/constraints.hpp"
+#include "core/damping.hpp"
 
 namespace chainmail {
 namespace {
+
+// per-ring values as an Eigen vector, without a copy
+Eigen::Map<const Eigen::VectorXd> view(const std::vector<double>& values) {
+  return {values.data(), static_cast<Eigen::Index>(values.size())};
+}
 
 // the weave's links as edge constraints, grouped by a greedy edge colouring: within one colour no
 // two edges share a ring, so consecutive solves do not wait on each other's square root and
@@ -81,6 +87,7 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
                        return depth[x.b] != depth[y.b] ? depth[x.b] < depth[y.b] : x.b < y.b;
                      });
   }
+  model_.rigid = rigid_freedom(weave.rest_position, view(model_.inverse_mass));
   model_.colliders = scene.colliders;
   model_.gravity = scene.gravity;
   model_.self_contact = scene.self_contact;
@@ -250,7 +257,6 @@ void PlausibleSim::collide() {
 void PlausibleSim::update_velocities(double dt) {
   auto scope = profile_.scope("velocity");
   const int n = static_cast<int>(state_.position.cols());
-  const double keep = std::max(0.0, 1.0 - model_.settings.damping * dt);
   for (int i = 0; i < n; ++i) {
     if (model_.inverse_mass[i] == 0.0) {
       state_.velocity.col(i).setZero();
@@ -265,7 +271,14 @@ void PlausibleSim::update_velocities(double dt) {
       const double limit = state_.contact_friction[i] * state_.contact_push[i] / dt;
       if (speed > 0.0) v -= tangential * std::min(1.0, limit / speed);
     }
-    state_.velocity.col(i) = keep * v;
+    state_.velocity.col(i) = v;
+  }
+  const double fraction = std::min(1.0, model_.settings.damping * dt);
+  if (model_.settings.damp_rigid) {
+    state_.velocity *= 1.0 - fraction;
+  } else {
+    damp_toward_rigid(model_.rigid, state_.position, view(model_.mass), view(model_.inverse_mass),
+                      fraction, state_.velocity);
   }
 }
 

@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include "core/damping.hpp"
 #include "core/frame.hpp"
 #include "core/orientation.hpp"
 #include "core/profile.hpp"
@@ -18,7 +19,11 @@ namespace chainmail {
 struct PlausibleSettings {
   int iterations = 10;                // constraint sweeps per step
   double max_link_fraction = 0.95;    // effective inner diameter / inner diameter (paper §3)
-  double damping = 5.0;               // 1/s, velocity drag (0.5 lets a 100-row curtain whip)
+  // 1/s: each step pulls velocities a fraction damping * dt toward the rigid motion that fits the
+  // free rings best, so falling or turning as a whole is not slowed (0.5 lets a 100-row curtain
+  // whip)
+  double damping = 5.0;
+  bool damp_rigid = false;  // damp all motion instead (a drag that also slows free fall)
   double repulsion_fraction = 0.7;    // repulsion range / inner diameter
   double repulsion_stiffness = 10.0;  // N/m
   // candidate repulsion pairs are gathered within range * (1 + contact_skin) and kept until some
@@ -51,6 +56,7 @@ struct PlausibleModel {
   std::vector<EdgeConstraint> outward;  // edges reachable from a pin, a = nearer the pin, by depth
   std::vector<Collider> colliders;
   Vec3 gravity = Vec3::Zero();  // m/s^2
+  RigidFreedom rigid;           // rigid motions the pins leave the sheet (damping spares them)
   bool self_contact = true;
   double repulsion_range = 0.0;  // m
   double contact_margin = 0.0;   // m

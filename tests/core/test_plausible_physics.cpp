@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <numbers>
 
+#include "core/massspring.hpp"
 #include "core/plausible.hpp"
 
 namespace chainmail {
@@ -56,6 +57,65 @@ TEST(PlausiblePhysics, SheetAtRestOnAPlaneTurnsNoRing) {
   std::printf("sheet at rest: largest turn %.4g deg per step (ring %d)\n",
               worst * 180.0 / std::numbers::pi, worst_ring);
   EXPECT_LT(worst, 0.1 * std::numbers::pi / 180.0) << "ring " << worst_ring;
+}
+
+// a 12 x 12 4-in-1 sheet in the air, flat, nothing to hit
+Scene sheet_in_the_air() {
+  return scene_from_json(json{{"name", "fall"},
+                              {"weave",
+                               {{"type", "4in1"},
+                                {"rows", 12},
+                                {"cols", 12},
+                                {"plane", "xz"},
+                                {"center", {0, 2.0, 0}}}},
+                              {"duration", 1.0}},
+                         "test");
+}
+
+double mean_height(const Positions& p) {
+  return p.row(1).mean();
+}
+
+TEST(PlausiblePhysics, SheetFallsFreely) {
+  // damping spares rigid motion: the sheet's centre falls g t^2 / 2 within 1 % (symplectic Euler
+  // itself adds g t dt / 2, 0.8 % at 4 ms over 0.5 s)
+  const Scene scene = sheet_in_the_air();
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  PlausibleSim sim;
+  sim.reset(scene, weave, PlausibleSettings{});
+  const double y0 = mean_height(sim.state().position);
+  for (int s = 0; s < 125; ++s) sim.step(0.004);
+  const double fallen = y0 - mean_height(sim.state().position), expected = 0.5 * 9.81 * 0.25;
+  std::printf("plausible free fall over 0.5 s: %.2f mm, g t^2/2 %.2f mm (%+.2f %%)\n", 1e3 * fallen,
+              1e3 * expected, 100.0 * (fallen - expected) / expected);
+  EXPECT_NEAR(fallen, expected, 0.01 * expected);
+  // the former drag, for contrast: about half the fall
+  PlausibleSettings drag;
+  drag.damp_rigid = true;
+  sim.reset(scene, weave, drag);
+  for (int s = 0; s < 125; ++s) sim.step(0.004);
+  EXPECT_LT(y0 - mean_height(sim.state().position), 0.6 * expected);
+}
+
+TEST(MassSpringPhysics, SheetFallsFreely) {
+  // the document's damping per document step (1/2700 s), sparing rigid motion: the fall is the
+  // same within 1 % with one Verlet step per document step and with ten
+  const Scene scene = sheet_in_the_air();
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  massspring::Settings settings;
+  settings.point_mass = scene.ring.mass();
+  const massspring::Model model = massspring::make_model(scene, weave, settings);
+  const double expected = 0.5 * 9.81 * 0.25;
+  for (const int substeps : {1, 10}) {
+    massspring::State state = massspring::make_state(model, weave.rest_position);
+    StageProfile profile;
+    const double y0 = mean_height(state.position), h = 1.0 / 2700.0 / substeps;
+    for (int s = 0; s < 1350 * substeps; ++s) massspring::step(model, state, h, profile);
+    const double fallen = y0 - mean_height(state.position);
+    std::printf("massspring free fall over 0.5 s, %d substeps: %.2f mm (%+.2f %%)\n", substeps,
+                1e3 * fallen, 100.0 * (fallen - expected) / expected);
+    EXPECT_NEAR(fallen, expected, 0.01 * expected) << substeps << " substeps";
+  }
 }
 
 }  // namespace
