@@ -15,6 +15,7 @@ class PlausibleBackend final : public Backend {
     settings.damping = knobs.at("damping");
     settings.damp_rigid = knobs.at("damp_rigid") != 0.0;
     settings.repulsion_fraction = knobs.at("repulsion_fraction");
+    settings.repulsion_spring = knobs.at("repulsion_spring") != 0.0;
     settings.repulsion_stiffness = knobs.at("repulsion_stiffness");
     settings.contact_skin = knobs.at("contact_skin");
     settings.contact_margin = knobs.at("contact_margin");
@@ -53,8 +54,11 @@ BackendInfo plausible_backend_info() {
       {"damp_rigid", T::boolean, d.damp_rigid ? 1.0 : 0.0, 0.0, 1.0,
        "damping slows all motion, rigid motion included (a drag)"},
       {"repulsion_fraction", T::number, d.repulsion_fraction, 0.0, 2.0,
-       "non-neighbour repulsion range / inner diameter"},
-      {"repulsion_stiffness", T::number, d.repulsion_stiffness, 0.0, 1e9, "N/m"},
+       "non-neighbour minimum distance (or repulsion spring range) / inner diameter"},
+      {"repulsion_spring", T::boolean, d.repulsion_spring ? 1.0 : 0.0, 0.0, 1.0,
+       "non-neighbours repel by the paper's spring (explicit) instead of a minimum distance"},
+      {"repulsion_stiffness", T::number, d.repulsion_stiffness, 0.0, 1e9,
+       "stiffness of the repulsion spring, N/m"},
       {"contact_skin", T::number, d.contact_skin, 0.0, 10.0,
        "repulsion candidate list margin, fraction of the range (0 = rebuild every step)"},
       {"contact_margin", T::number, d.contact_margin, 0.0, 1.0,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <utility>
 
 #include "core/colliders.hpp"
@@ -115,13 +116,27 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
 }
 
 void PlausibleSim::step(double dt) {
-  // external forces: gravity, and repulsion between non-neighbours when self-contact is on
+  const bool contacts = model_.self_contact && state_.position.cols() > 1;
+  const bool spring = model_.settings.repulsion_spring;
+  // external forces: gravity, and the repulsion spring between non-neighbours when chosen
   accumulate_forces();
+  if (contacts && spring) {
+    auto scope = profile_.scope("self_contact");
+    refresh_contact_candidates();
+    add_repulsion_forces();
+  }
   // integrate: symplectic Euler prediction of the new positions
   integrate(dt);
-  // Provot edge constraints, interleaved with collider projection when the scene has colliders
+  // candidate pairs near the predicted positions, for the minimum distance in the sweeps
+  if (contacts && !spring) {
+    auto scope = profile_.scope("self_contact");
+    refresh_contact_candidates();
+  }
+  // Provot edge constraints, interleaved with the minimum distance between non-neighbours and
+  // collider projection
   for (int it = 0; it < model_.settings.iterations; ++it) {
     solve_constraints();
+    if (contacts && !spring) solve_contacts();
     if (!model_.colliders.empty()) collide();
   }
   if (model_.settings.shock_propagation && !model_.outward.empty()) {
@@ -139,10 +154,9 @@ void PlausibleSim::accumulate_forces() {
   auto scope = profile_.scope("forces");
   const int n = static_cast<int>(state_.position.cols());
   for (int i = 0; i < n; ++i) state_.force.col(i) = model_.mass[i] * model_.gravity;
-  if (!model_.self_contact || n < 2) return;
+}
 
-  auto repulsion = profile_.scope("self_contact");
-  refresh_contact_candidates();
+void PlausibleSim::add_repulsion_forces() {
   const double range = model_.repulsion_range;
   const double k = model_.settings.repulsion_stiffness;
   for (const RingPair& pair : state_.contact_candidates) {
@@ -150,6 +164,31 @@ void PlausibleSim::accumulate_forces() {
         repulsion_force(state_.position.col(pair.a), state_.position.col(pair.b), range, k);
     state_.force.col(pair.a) += f;
     state_.force.col(pair.b) -= f;
+  }
+}
+
+void PlausibleSim::solve_contacts() {
+  auto scope = profile_.scope("self_contact");
+  Positions& p = state_.position;
+  const Positions& before = state_.previous;
+  const std::vector<double>& w = model_.inverse_mass;
+  const double range = model_.repulsion_range;
+  for (const RingPair& pair : state_.contact_candidates) {
+    const double weight = w[pair.a] + w[pair.b];
+    if (weight == 0.0) continue;
+    // apart along the direction the pair had at the start of the step: a ring that passed
+    // through another during the step goes back to its own side (no tunnelling), and the
+    // distance is at least the separation along that direction
+    Vec3 normal = before.col(pair.b) - before.col(pair.a);
+    if (normal.squaredNorm() < 1e-24) normal = p.col(pair.b) - p.col(pair.a);
+    const double length = normal.norm();
+    if (length < 1e-12) continue;
+    normal /= length;
+    const double gap = (p.col(pair.b) - p.col(pair.a)).dot(normal) - range;  // m, < 0 too close
+    if (gap >= 0.0) continue;
+    const Vec3 shift = (gap / weight) * normal;
+    p.col(pair.a) += w[pair.a] * shift;
+    p.col(pair.b) -= w[pair.b] * shift;
   }
 }
 

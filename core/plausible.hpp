@@ -24,8 +24,12 @@ struct PlausibleSettings {
   // whip)
   double damping = 5.0;
   bool damp_rigid = false;  // damp all motion instead (a drag that also slows free fall)
-  double repulsion_fraction = 0.7;    // repulsion range / inner diameter
-  double repulsion_stiffness = 10.0;  // N/m
+  double repulsion_fraction = 0.7;  // repulsion range / inner diameter
+  // non-neighbours closer than the range are pushed apart to it in the constraint sweeps (a
+  // minimum distance, stable at any dt); repulsion_spring: the paper's spring that all rings emit
+  // on each other instead, k (range - d), integrated explicitly with gravity
+  bool repulsion_spring = false;
+  double repulsion_stiffness = 10.0;  // N/m, the spring's
   // candidate repulsion pairs are gathered within range * (1 + contact_skin) and kept until some
   // ring has moved half the skin (a Verlet list); 0 rebuilds from the spatial hash every step
   double contact_skin = 0.3;
@@ -96,9 +100,11 @@ class PlausibleSim {
 
  private:
   void accumulate_forces();
+  void add_repulsion_forces();
   void refresh_contact_candidates();
   void integrate(double dt);
   void solve_constraints();
+  void solve_contacts();
   void propagate_from_pins();
   void collide();
   void update_velocities(double dt);
