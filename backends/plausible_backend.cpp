@@ -11,6 +11,8 @@ class PlausibleBackend final : public Backend {
   void reset(const Scene& scene, const Weave& weave, const Knobs& knobs) override {
     PlausibleSettings settings;
     settings.iterations = static_cast<int>(knobs.at("iterations"));
+    settings.tolerance = knobs.at("tolerance");
+    settings.newton_steps = static_cast<int>(knobs.at("newton_steps"));
     settings.max_link_fraction = knobs.at("max_link_fraction");
     settings.damping = knobs.at("damping");
     settings.damp_rigid = knobs.at("damp_rigid") != 0.0;
@@ -46,7 +48,11 @@ BackendInfo plausible_backend_info() {
   info.knobs = {
       {"dt", T::number, 0.004, 1e-6, 0.1, "time step, s"},
       {"iterations", T::integer, static_cast<double>(d.iterations), 1, 100000,
-       "constraint sweeps per step"},
+       "most constraint sweeps per step"},
+      {"tolerance", T::number, d.tolerance, 0.0, 1.0,
+       "sweeps stop once the largest violation met is below this fraction of the link length"},
+      {"newton_steps", T::integer, static_cast<double>(d.newton_steps), 0, 10000,
+       "most Newton steps on edges and colliders together after the sweeps (0: sweeps only)"},
       {"max_link_fraction", T::number, d.max_link_fraction, 0.2, 1.0,
        "largest neighbour distance / inner diameter"},
       {"damping", T::number, d.damping, 0.0, 1000.0,

@@ -61,6 +61,7 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   for (int pinned : resolve_pins(scene, weave)) model_.inverse_mass[pinned] = 0.0;
   const double max_length = settings.max_link_fraction * ring.inner_diameter();
   model_.edges = colour_ordered_edges(weave, ring.min_link_distance(), max_length);
+  model_.longest_link = max_length;
   model_.extended_swivel = settings.swivel_fit            ? fitted_extended_swivel(ring, max_length)
                            : settings.swivel_extended > 0 ? settings.swivel_extended
                                                           : ring.wire_radius / ring.centre_radius;
@@ -132,17 +133,9 @@ void PlausibleSim::step(double dt) {
     auto scope = profile_.scope("self_contact");
     refresh_contact_candidates();
   }
-  // Provot edge constraints, interleaved with the minimum distance between non-neighbours and
-  // collider projection
-  for (int it = 0; it < model_.settings.iterations; ++it) {
-    solve_constraints();
-    if (contacts && !spring) solve_contacts();
-    if (!model_.colliders.empty()) collide();
-  }
-  if (model_.settings.shock_propagation && !model_.outward.empty()) {
-    propagate_from_pins();
-    if (!model_.colliders.empty()) collide();
-  }
+  // outward pass from the pins, then Provot edge constraints, minimum distances between
+  // non-neighbours and colliders, swept together until converged
+  solve_positions();
   // velocities from the constrained motion (paper §3), collider friction, damping
   update_velocities(dt);
   // ring orientation from the neighbour vectors (paper §4)
@@ -164,31 +157,6 @@ void PlausibleSim::add_repulsion_forces() {
         repulsion_force(state_.position.col(pair.a), state_.position.col(pair.b), range, k);
     state_.force.col(pair.a) += f;
     state_.force.col(pair.b) -= f;
-  }
-}
-
-void PlausibleSim::solve_contacts() {
-  auto scope = profile_.scope("self_contact");
-  Positions& p = state_.position;
-  const Positions& before = state_.previous;
-  const std::vector<double>& w = model_.inverse_mass;
-  const double range = model_.repulsion_range;
-  for (const RingPair& pair : state_.contact_candidates) {
-    const double weight = w[pair.a] + w[pair.b];
-    if (weight == 0.0) continue;
-    // apart along the direction the pair had at the start of the step: a ring that passed
-    // through another during the step goes back to its own side (no tunnelling), and the
-    // distance is at least the separation along that direction
-    Vec3 normal = before.col(pair.b) - before.col(pair.a);
-    if (normal.squaredNorm() < 1e-24) normal = p.col(pair.b) - p.col(pair.a);
-    const double length = normal.norm();
-    if (length < 1e-12) continue;
-    normal /= length;
-    const double gap = (p.col(pair.b) - p.col(pair.a)).dot(normal) - range;  // m, < 0 too close
-    if (gap >= 0.0) continue;
-    const Vec3 shift = (gap / weight) * normal;
-    p.col(pair.a) += w[pair.a] * shift;
-    p.col(pair.b) -= w[pair.b] * shift;
   }
 }
 
@@ -228,69 +196,6 @@ void PlausibleSim::integrate(double dt) {
     state_.position.col(i) += dt * state_.velocity.col(i);
   }
   state_.contact_push.setZero();
-}
-
-void PlausibleSim::solve_constraints() {
-  auto scope = profile_.scope("constraints");
-  Positions& p = state_.position;
-  const std::vector<double>& w = model_.inverse_mass;
-  for (const EdgeConstraint& e : model_.edges) {
-    Vec3 corr0, corr1;
-    if (solve_edge_constraint(p.col(e.a), w[e.a], p.col(e.b), w[e.b], e.min_length, e.max_length,
-                              corr0, corr1)) {
-      p.col(e.a) += corr0;
-      p.col(e.b) += corr1;
-    }
-  }
-}
-
-void PlausibleSim::propagate_from_pins() {
-  auto scope = profile_.scope("propagate");
-  Positions& p = state_.position;
-  // edges are grouped by their far ring (sorted by depth); a ring with two parents (4-in-1) takes
-  // the mean of the projections onto each parent's sphere, so parents that are too far apart to
-  // satisfy both pull it to a compromise instead of making it jump from one to the other
-  const auto& edges = model_.outward;
-  for (size_t first = 0; first < edges.size();) {
-    size_t last = first;
-    while (last < edges.size() && edges[last].b == edges[first].b) ++last;
-    const int ring = edges[first].b;
-    if (model_.inverse_mass[ring] != 0.0) {
-      for (int pass = 0; pass < 2; ++pass) {
-        Vec3 sum = Vec3::Zero();
-        int count = 0;
-        for (size_t k = first; k < last; ++k) {
-          Vec3 corr0, corr1;
-          if (solve_edge_constraint(p.col(edges[k].a), 0.0, p.col(ring), 1.0, edges[k].min_length,
-                                    edges[k].max_length, corr0, corr1)) {
-            sum += corr1;
-            ++count;
-          }
-        }
-        if (count == 0) break;
-        p.col(ring) += sum / static_cast<double>(last - first);
-      }
-    }
-    first = last;
-  }
-}
-
-void PlausibleSim::collide() {
-  auto scope = profile_.scope("colliders");
-  const int n = static_cast<int>(state_.position.cols());
-  for (int i = 0; i < n; ++i) {
-    if (model_.inverse_mass[i] == 0.0) continue;
-    for (const Collider& collider : model_.colliders) {
-      ColliderContact contact;
-      if (!collider_contact(collider, state_.position.col(i), model_.contact_margin, contact)) {
-        continue;
-      }
-      state_.position.col(i) += contact.depth * contact.normal;
-      state_.contact_push[i] += contact.depth;
-      state_.contact_normal.col(i) = contact.normal;
-      state_.contact_friction[i] = collider.friction;
-    }
-  }
 }
 
 void PlausibleSim::update_velocities(double dt) {

@@ -10,6 +10,7 @@
 #include "core/frame.hpp"
 #include "core/orientation.hpp"
 #include "core/profile.hpp"
+#include "core/projection.hpp"
 #include "core/scene.hpp"
 #include "core/spatial_hash.hpp"
 #include "core/weave.hpp"
@@ -17,7 +18,13 @@
 namespace chainmail {
 
 struct PlausibleSettings {
-  int iterations = 10;                // constraint sweeps per step
+  // constraint sweeps (edges, minimum distances, colliders in one Gauss-Seidel sweep) run until
+  // the largest violation a sweep meets is below tolerance * the longest link, at most iterations;
+  // then Newton steps on the edges and colliders together (a sparse direct solve each, at most
+  // newton_steps) remove what the sweeps left
+  int iterations = 10;
+  double tolerance = 1e-3;
+  int newton_steps = 30;
   double max_link_fraction = 0.95;    // effective inner diameter / inner diameter (paper §3)
   // 1/s: each step pulls velocities a fraction damping * dt toward the rigid motion that fits the
   // free rings best, so falling or turning as a whole is not slowed (0.5 lets a 100-row curtain
@@ -38,7 +45,7 @@ struct PlausibleSettings {
   double swivel_extended = 0.0;  // rad, swivel at full extension; 0 = the paper's a/c
   // take the swivel at full extension from the ring geometry (fitted_extended_swivel) instead
   bool swivel_fit = false;
-  // after the sweeps, one pass outward from the pins that moves only the ring farther from a pin
+  // before the sweeps, one pass outward from the pins that moves only the ring farther from a pin
   // (Provot's fixed-end rule; shock propagation): removes the stretch a hanging sheet accumulates
   // when Gauss-Seidel sweeps alone would need O(rows^2) iterations
   bool shock_propagation = true;
@@ -57,6 +64,7 @@ struct PlausibleModel {
   std::vector<double> mass;             // (n) kg
   std::vector<double> inverse_mass;     // (n) 1/kg, 0 for pinned rings
   std::vector<EdgeConstraint> edges;    // (m) neighbour links
+  double longest_link = 0.0;            // m, the largest max_length: the solver's length scale
   std::vector<EdgeConstraint> outward;  // edges reachable from a pin, a = nearer the pin, by depth
   std::vector<Collider> colliders;
   Vec3 gravity = Vec3::Zero();  // m/s^2
@@ -83,6 +91,11 @@ struct PlausibleState {
   std::vector<RingPair> contact_candidates;  // (k) i < j
   Positions contact_anchor;                  // (3, n) m, positions when the list was built
   long long contact_rebuilds = 0;            // lists built so far
+  // the last step's constraint solve: sweeps and Newton steps run, and the largest violation
+  // left (the last sweep's, or the edges' and colliders' after the Newton steps)
+  int sweeps = 0;
+  int newton_steps = 0;
+  double residual = 0.0;  // m
 };
 
 class PlausibleSim {
@@ -103,10 +116,19 @@ class PlausibleSim {
   void add_repulsion_forces();
   void refresh_contact_candidates();
   void integrate(double dt);
-  void solve_constraints();
-  void solve_contacts();
+  void solve_positions();
+  bool solves_contacts() const;
+  // Newton steps on the edges and colliders until the largest violation is below tolerance, m
+  void solve_together(double tolerance);
+  // rows of the constraints violated or within `near` of their bound; the largest violation, m
+  double edge_rows(double near, std::vector<ProjectionRow>& rows) const;
+  double contact_rows(double near, std::vector<ProjectionRow>& rows) const;
+  double collider_rows(double near, std::vector<ProjectionRow>& rows);
+  // one sweep each; they return the largest violation they met, m
+  double solve_constraints();
+  double solve_contacts();
+  double collide();
   void propagate_from_pins();
-  void collide();
   void update_velocities(double dt);
   void orient();
 
@@ -114,6 +136,7 @@ class PlausibleSim {
   PlausibleModel model_;
   PlausibleState state_;
   SpatialHash hash_;
+  Projection projection_;  // the Newton steps' factorisation, kept between steps
   StageProfile profile_;
 };
 
