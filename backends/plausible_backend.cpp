@@ -68,7 +68,8 @@ BackendInfo plausible_backend_info() {
       {"contact_skin", T::number, d.contact_skin, 0.0, 10.0,
        "repulsion candidate list margin, fraction of the range (0 = rebuild every step)"},
       {"contact_margin", T::number, d.contact_margin, 0.0, 1.0,
-       "collider skin around a ring centre, m (0: a + c sin(a/c))"},
+       "distance kept between a ring centre and a collider, m (0: the torus's extent along the "
+       "collider normal from the ring's orientation)"},
       {"swivel", T::boolean, 1.0, 0.0, 1.0, "swivel rings into the 4-in-1 pattern"},
       {"shock_propagation", T::boolean, 1.0, 0.0, 1.0,
        "a last constraint pass outward from the pins, moving only the far ring"},

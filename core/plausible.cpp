@@ -94,10 +94,6 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   model_.gravity = scene.gravity;
   model_.self_contact = scene.self_contact;
   model_.repulsion_range = settings.repulsion_fraction * ring.inner_diameter();
-  model_.contact_margin =
-      settings.contact_margin > 0.0
-          ? settings.contact_margin
-          : ring.wire_radius + ring.centre_radius * std::sin(ring.wire_radius / ring.centre_radius);
 
   // state at rest
   state_ = PlausibleState{};
@@ -233,6 +229,21 @@ void PlausibleSim::orient() {
   settings.swivel = model_.settings.swivel;
   settings.extended_angle = model_.extended_swivel;
   orient_rings(state_.position, weave_, model_.ring, settings, state_.orientation);
+  // the ring axes the colliders see follow the orientations a fraction per step: a torus's reach
+  // into a collider moves its centre, which turns its neighbours; followed at once, rings on a
+  // floor lift and turn each other without end
+  const Orientations& o = state_.orientation;
+  const int n = static_cast<int>(o.cols());
+  constexpr double follow = 0.5;  // rest on a floor settles for 0.3 to 0.7; 1 and 0.2 do not
+  const bool first = state_.contact_axis.cols() != n;
+  if (first) state_.contact_axis.resize(3, n);
+  for (int i = 0; i < n; ++i) {
+    const Vec3 axis = Quat(o(0, i), o(1, i), o(2, i), o(3, i)) * Vec3::UnitY();
+    const Vec3 old = state_.contact_axis.col(i);
+    // the axis's sign is arbitrary: follow it from the side the old one is on
+    const Vec3 target = !first && axis.dot(old) < 0.0 ? Vec3(-axis) : axis;
+    state_.contact_axis.col(i) = first ? target : Vec3((old + follow * (target - old)).normalized());
+  }
 }
 
 void PlausibleSim::frame(RingFrame& out) const {

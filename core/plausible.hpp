@@ -40,7 +40,9 @@ struct PlausibleSettings {
   // candidate repulsion pairs are gathered within range * (1 + contact_skin) and kept until some
   // ring has moved half the skin (a Verlet list); 0 rebuilds from the spatial hash every step
   double contact_skin = 0.3;
-  double contact_margin = 0.0;   // m, collider skin around a ring centre; 0 = a + c sin(a/c)
+  // m, distance kept between a ring centre and a collider; 0 = the torus's own extent along the
+  // collider normal, a + c sqrt(1 - (axis . n)^2), from the ring's orientation
+  double contact_margin = 0.0;
   bool swivel = true;            // paper §4 swivel (4in1)
   double swivel_extended = 0.0;  // rad, swivel at full extension; 0 = the paper's a/c
   // take the swivel at full extension from the ring geometry (fitted_extended_swivel) instead
@@ -71,7 +73,6 @@ struct PlausibleModel {
   RigidFreedom rigid;           // rigid motions the pins leave the sheet (damping spares them)
   bool self_contact = true;
   double repulsion_range = 0.0;  // m
-  double contact_margin = 0.0;   // m
   double extended_swivel = 0.0;  // rad, swivel at full extension (a/c, the knob, or fitted)
   PlausibleSettings settings;
 };
@@ -84,6 +85,7 @@ struct PlausibleState {
   Positions previous;                // (3, n) m, positions at the start of the step
   Positions force;                   // (3, n) N, accumulated external + repulsion
   Orientations orientation;          // (4, n) w, x, y, z
+  Positions contact_axis;            // (3, n) unit, ring axes as the colliders see them
   Eigen::VectorXd contact_push;      // (n) m, collider push-out this step (0: no contact)
   Positions contact_normal;          // (3, n) unit, last collider normal this step
   Eigen::VectorXd contact_friction;  // (n) Coulomb coefficient of that collider
@@ -128,6 +130,8 @@ class PlausibleSim {
   double solve_constraints();
   double solve_contacts();
   double collide();
+  // m, how far ring's centre must stay from a collider with outward normal n
+  double collider_margin(int ring, const Vec3& normal) const;
   void propagate_from_pins();
   void update_velocities(double dt);
   void orient();

@@ -116,8 +116,8 @@ double PlausibleSim::collider_rows(double near, std::vector<ProjectionRow>& rows
     if (model_.inverse_mass[i] == 0.0) continue;
     for (const Collider& collider : model_.colliders) {
       Vec3 normal;
-      const double violation =
-          model_.contact_margin - collider_distance(collider, state_.position.col(i), normal);
+      const double distance = collider_distance(collider, state_.position.col(i), normal);
+      const double violation = collider_margin(i, normal) - distance;
       if (violation <= -near) continue;
       rows.push_back({-1, i, -normal, violation});
       worst = std::max(worst, violation);
@@ -178,6 +178,15 @@ void PlausibleSim::propagate_from_pins() {
   }
 }
 
+double PlausibleSim::collider_margin(int ring, const Vec3& normal) const {
+  if (model_.settings.contact_margin > 0.0) return model_.settings.contact_margin;
+  // the torus reaches c sqrt(1 - (axis . n)^2) + a from its centre along n: a ring lying flat
+  // needs a, one standing on its rim c + a (the orientation is the last step's)
+  const Vec3 axis = state_.contact_axis.col(ring);
+  const double along = std::min(1.0, std::abs(axis.dot(normal)));
+  return model_.ring.wire_radius + model_.ring.centre_radius * std::sqrt(1.0 - along * along);
+}
+
 double PlausibleSim::collide() {
   auto scope = profile_.scope("colliders");
   double worst = 0.0;  // m
@@ -185,15 +194,15 @@ double PlausibleSim::collide() {
   for (int i = 0; i < n; ++i) {
     if (model_.inverse_mass[i] == 0.0) continue;
     for (const Collider& collider : model_.colliders) {
-      ColliderContact contact;
-      if (!collider_contact(collider, state_.position.col(i), model_.contact_margin, contact)) {
-        continue;
-      }
-      state_.position.col(i) += contact.depth * contact.normal;
-      state_.contact_push[i] += contact.depth;
-      state_.contact_normal.col(i) = contact.normal;
+      Vec3 normal;
+      const double distance = collider_distance(collider, state_.position.col(i), normal);
+      const double depth = collider_margin(i, normal) - distance;  // m
+      if (depth <= 0.0) continue;
+      state_.position.col(i) += depth * normal;
+      state_.contact_push[i] += depth;
+      state_.contact_normal.col(i) = normal;
       state_.contact_friction[i] = collider.friction;
-      worst = std::max(worst, contact.depth);
+      worst = std::max(worst, depth);
     }
   }
   return worst;

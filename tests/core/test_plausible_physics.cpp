@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <numbers>
 
+#include "core/colliders.hpp"
+#include "core/geometry.hpp"
 #include "core/massspring.hpp"
 #include "core/metrics.hpp"
 #include "core/plausible.hpp"
@@ -179,6 +181,44 @@ TEST(PlausiblePhysics, NoLinkBeyondTheRingsOnAnyBenchScene) {
     EXPECT_LE(peak, 1.0);
     EXPECT_LE(residual, sim.model().settings.tolerance);
   }
+}
+
+// how deep a ring's torus reaches into a collider, m (<= 0: clear of it): the tube of radius a
+// around the centre circle, sampled at 256 points of the circle (exact for a plane: the lowest
+// point along the normal n is centre.n - (c sqrt(1 - (axis.n)^2) + a))
+double torus_depth(const Collider& collider, const Vec3& centre, const Quat& q,
+                   const RingGeometry& ring) {
+  double depth = -1e300;
+  for (int k = 0; k < 256; ++k) {
+    const double s = 2.0 * std::numbers::pi * k / 256.0;
+    Vec3 normal;
+    const double d = collider_distance(
+        collider, centre_circle_point(centre, q, ring.centre_radius, s), normal);
+    depth = std::max(depth, ring.wire_radius - d);
+  }
+  return depth;
+}
+
+TEST(PlausiblePhysics, RingsAtRestStayOutOfTheFloor) {
+  // the collider keeps each ring's whole torus out, whatever its tilt: a sheet dropped on a floor
+  // comes to rest with no torus deeper than 0.1 a into it
+  const Scene scene = sheet_on_floor(12, 12, 0.006);
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  PlausibleSim sim;
+  sim.reset(scene, weave, PlausibleSettings{});
+  for (int s = 0; s < 375; ++s) sim.step(0.004);
+  const Collider& floor = scene.colliders.front();
+  double deepest = -1e300;
+  int ring = -1;
+  for (int i = 0; i < weave.size(); ++i) {
+    const double depth = torus_depth(floor, sim.state().position.col(i),
+                                     quat_of(sim.state().orientation, i), scene.ring);
+    if (depth > deepest) deepest = depth, ring = i;
+  }
+  std::printf("sheet on a floor: deepest torus %.3f a into it (ring %d), speed %.2g m/s\n",
+              deepest / scene.ring.wire_radius, ring, sim.state().velocity.cwiseAbs().maxCoeff());
+  EXPECT_LT(sim.state().velocity.cwiseAbs().maxCoeff(), 1e-3);  // at rest
+  EXPECT_LE(deepest, 0.1 * scene.ring.wire_radius) << "ring " << ring;
 }
 
 }  // namespace
