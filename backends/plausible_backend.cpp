@@ -13,6 +13,7 @@ class PlausibleBackend final : public Backend {
     settings.iterations = static_cast<int>(knobs.at("iterations"));
     settings.tolerance = knobs.at("tolerance");
     settings.newton_steps = static_cast<int>(knobs.at("newton_steps"));
+    settings.link_geometry = knobs.at("link_geometry") != 0.0;
     settings.max_link_fraction = knobs.at("max_link_fraction");
     settings.damping = knobs.at("damping");
     settings.damp_rigid = knobs.at("damp_rigid") != 0.0;
@@ -53,8 +54,11 @@ BackendInfo plausible_backend_info() {
        "sweeps stop once the largest violation met is below this fraction of the link length"},
       {"newton_steps", T::integer, static_cast<double>(d.newton_steps), 0, 10000,
        "most Newton steps on edges and colliders together after the sweeps (0: sweeps only)"},
+      {"link_geometry", T::boolean, d.link_geometry ? 1.0 : 0.0, 0.0, 1.0,
+       "largest neighbour distance from the ring geometry, by the rings' orientation"},
       {"max_link_fraction", T::number, d.max_link_fraction, 0.2, 1.0,
-       "largest neighbour distance / inner diameter"},
+       "largest neighbour distance / inner diameter (without link_geometry, or where the "
+       "geometry gives none)"},
       {"damping", T::number, d.damping, 0.0, 1000.0,
        "damping of motion other than rigid motion of the whole, 1/s"},
       {"damp_rigid", T::boolean, d.damp_rigid ? 1.0 : 0.0, 0.0, 1.0,
@@ -71,8 +75,8 @@ BackendInfo plausible_backend_info() {
        "distance kept between a ring centre and a collider, m (0: the torus's extent along the "
        "collider normal from the ring's orientation)"},
       {"swivel", T::boolean, 1.0, 0.0, 1.0, "swivel rings into the 4-in-1 pattern"},
-      {"shock_propagation", T::boolean, 1.0, 0.0, 1.0,
-       "a last constraint pass outward from the pins, moving only the far ring"},
+      {"shock_propagation", T::boolean, d.shock_propagation ? 1.0 : 0.0, 0.0, 1.0,
+       "a constraint pass outward from the pins before the sweeps, moving only the far ring"},
       {"swivel_extended", T::number, d.swivel_extended, 0.0, 1.5707963267948966,
        "swivel angle at full extension, rad (0: the paper's a/c)"},
       {"swivel_fit", T::boolean, 0.0, 0.0, 1.0,

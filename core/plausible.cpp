@@ -59,12 +59,19 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   model_.inverse_mass.resize(n);
   for (int i = 0; i < n; ++i) model_.inverse_mass[i] = 1.0 / model_.mass[i];
   for (int pinned : resolve_pins(scene, weave)) model_.inverse_mass[pinned] = 0.0;
-  const double max_length = settings.max_link_fraction * ring.inner_diameter();
+  const double fraction_length = settings.max_link_fraction * ring.inner_diameter();
+  model_.extended_swivel =
+      settings.swivel_fit            ? fitted_extended_swivel(ring, fraction_length)
+      : settings.swivel_extended > 0 ? settings.swivel_extended
+                                     : ring.wire_radius / ring.centre_radius;
+  // the link length from the ring geometry, aimed a tolerance short of it so that a solve
+  // converged within the tolerance never stretches a link beyond it
+  const double geometric =
+      settings.link_geometry ? weave_max_link_distance(weave, ring, model_.extended_swivel) : 0.0;
+  const double max_length =
+      geometric > 0.0 ? (1.0 - settings.tolerance) * geometric : fraction_length;
   model_.edges = colour_ordered_edges(weave, ring.min_link_distance(), max_length);
   model_.longest_link = max_length;
-  model_.extended_swivel = settings.swivel_fit            ? fitted_extended_swivel(ring, max_length)
-                           : settings.swivel_extended > 0 ? settings.swivel_extended
-                                                          : ring.wire_radius / ring.centre_radius;
   // breadth-first depth from the pins orders the outward pass
   {
     std::vector<int> depth(n, -1), queue;

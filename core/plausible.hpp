@@ -8,6 +8,7 @@
 
 #include "core/damping.hpp"
 #include "core/frame.hpp"
+#include "core/link_length.hpp"
 #include "core/orientation.hpp"
 #include "core/profile.hpp"
 #include "core/projection.hpp"
@@ -25,7 +26,12 @@ struct PlausibleSettings {
   int iterations = 10;
   double tolerance = 1e-3;
   int newton_steps = 30;
-  double max_link_fraction = 0.95;    // effective inner diameter / inner diameter (paper §3)
+  // the links' largest length from the ring geometry, for the two rings as the model turns them at
+  // full extension (exact circle-circle distance); where the geometry gives none (4-in-1 at the
+  // paper's swivel: turned nearly into one plane, the rings cannot link without touching), and
+  // without link_geometry, the paper's effective inner diameter max_link_fraction * ID
+  bool link_geometry = true;
+  double max_link_fraction = 0.95;
   // 1/s: each step pulls velocities a fraction damping * dt toward the rigid motion that fits the
   // free rings best, so falling or turning as a whole is not slowed (0.5 lets a 100-row curtain
   // whip)
@@ -49,8 +55,9 @@ struct PlausibleSettings {
   bool swivel_fit = false;
   // before the sweeps, one pass outward from the pins that moves only the ring farther from a pin
   // (Provot's fixed-end rule; shock propagation): removes the stretch a hanging sheet accumulates
-  // when Gauss-Seidel sweeps alone would need O(rows^2) iterations
-  bool shock_propagation = true;
+  // when Gauss-Seidel sweeps alone would need O(rows^2) iterations. Off by default: the Newton
+  // steps converge without it, and its one-sided moves bias the shape (a catenary sags 5 % less)
+  bool shock_propagation = false;
 };
 
 // one Provot edge: a plain record, solved by solve_edge_constraint

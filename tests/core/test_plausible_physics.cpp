@@ -8,6 +8,8 @@
 
 #include "core/colliders.hpp"
 #include "core/geometry.hpp"
+#include "core/link_length.hpp"
+#include "core/weave.hpp"
 #include "core/massspring.hpp"
 #include "core/metrics.hpp"
 #include "core/plausible.hpp"
@@ -219,6 +221,83 @@ TEST(PlausiblePhysics, RingsAtRestStayOutOfTheFloor) {
               deepest / scene.ring.wire_radius, ring, sim.state().velocity.cwiseAbs().maxCoeff());
   EXPECT_LT(sim.state().velocity.cwiseAbs().maxCoeff(), 1e-3);  // at rest
   EXPECT_LE(deepest, 0.1 * scene.ring.wire_radius) << "ring " << ring;
+}
+
+TEST(LinkLength, FromTheRingGeometry) {
+  const RingGeometry ring = RingGeometry::from_diameters(0.0016, 0.008, 7850.0);
+  const double inner = ring.inner_diameter();
+  // perpendicular rings of a chain reach the inner diameter: the wire of one against the far
+  // inside of the other
+  EXPECT_NEAR(exact_max_link_distance(ring, Vec3::UnitY(), Vec3::UnitZ(), Vec3::UnitX()), inner,
+              1e-9);
+  // turned towards each other they touch sooner: the largest distance shrinks with the turn; at
+  // it the pair is linked and clear, just beyond it the tori touch
+  double previous = inner;
+  for (const double turn : {0.3, 0.5, 0.7}) {
+    const Vec3 first(std::sin(turn), std::cos(turn), 0.0);  // axis turned towards the other ring
+    const double d = exact_max_link_distance(ring, first, Vec3::UnitZ(), Vec3::UnitX());
+    EXPECT_GT(d, 0.0) << turn;
+    EXPECT_LT(d, previous + 1e-12) << turn;
+    previous = d;
+    const Circle one{Vec3::Zero(), first, ring.centre_radius};
+    const Circle at{d * Vec3::UnitX(), Vec3::UnitZ(), ring.centre_radius};
+    const Circle beyond{(d + 1e-6) * Vec3::UnitX(), Vec3::UnitZ(), ring.centre_radius};
+    EXPECT_TRUE(circles_linked(one, at));
+    EXPECT_FALSE(circles_closer_than(one, at, 2.0 * ring.wire_radius).has_value());
+    EXPECT_TRUE(circles_closer_than(one, beyond, 2.0 * ring.wire_radius).has_value());
+  }
+  EXPECT_LT(previous, 0.9 * inner);
+  // the model's own turns: a chain reaches ID; 4-in-1 neighbours at the paper's swivel a/c lie
+  // too nearly in one plane to link without touching (no distance); swivelled farther they do
+  const Weave chain = make_weave(WeaveSpec{.type = WeaveType::chain, .cols = 3}, ring);
+  EXPECT_NEAR(weave_max_link_distance(chain, ring, 0.0), inner, 1e-9);
+  const Weave sheet =
+      make_weave(WeaveSpec{.type = WeaveType::four_in_one, .rows = 3, .cols = 3}, ring);
+  EXPECT_EQ(weave_max_link_distance(sheet, ring, ring.wire_radius / ring.centre_radius), 0.0);
+  const double fitted = weave_max_link_distance(sheet, ring, 0.8);
+  EXPECT_GT(fitted, 0.5 * inner);
+  EXPECT_LT(fitted, inner);
+}
+
+// sag of the catenary y = A cosh(x / A) of length L over the span S: L = 2 A sinh(S / 2A),
+// solved for A by bisection (the left side falls monotonically in A)
+double catenary_sag(double span, double length) {
+  double lo = 1e-6 * span, hi = 1e6 * span;
+  for (int k = 0; k < 200; ++k) {
+    const double mid = std::sqrt(lo * hi);
+    (2.0 * mid * std::sinh(span / (2.0 * mid)) > length ? lo : hi) = mid;
+  }
+  const double A = std::sqrt(lo * hi);
+  return A * (std::cosh(span / (2.0 * A)) - 1.0);
+}
+
+TEST(PlausiblePhysics, ChainHangsAsTheCatenary) {
+  // chains of 40, 60 and 80 rings between two pins at equal height, links of the geometric
+  // length (n - 1) ID: at the default settings the sag is the analytic catenary's within 3 %
+  for (const int rings : {40, 60, 80}) {
+    SCOPED_TRACE(rings);
+    const Scene scene = scene_from_json(
+        json{{"name", "catenary"},
+             {"weave", {{"type", "chain"}, {"cols", rings}, {"plane", "xy"}, {"spacing", 0.75}}},
+             {"pins", json::array({{{"corner", "top_left"}}, {{"corner", "top_right"}}})},
+             {"features", {{"self_contact", false}}},
+             {"duration", 4.0}},
+        "test");
+    const Weave weave = make_weave(scene.weave, scene.ring);
+    PlausibleSim sim;
+    sim.reset(scene, weave, PlausibleSettings{});
+    for (int s = 0; s < 750; ++s) sim.step(0.004);
+    const double before = sim.state().position(1, 0) - sim.state().position.row(1).minCoeff();
+    for (int s = 0; s < 250; ++s) sim.step(0.004);
+    const Positions& p = sim.state().position;
+    const double span = (p.col(rings - 1) - p.col(0)).norm();
+    const double expected = catenary_sag(span, (rings - 1) * scene.ring.inner_diameter());
+    const double sag = p(1, 0) - p.row(1).minCoeff();
+    std::printf("catenary, %d rings: sag %.2f mm, analytic %.2f mm (%+.2f %%)\n", rings, 1e3 * sag,
+                1e3 * expected, 100.0 * (sag - expected) / expected);
+    EXPECT_NEAR(sag, expected, 0.03 * expected);
+    EXPECT_NEAR(sag, before, 0.005 * expected);  // the shape holds still over the last second
+  }
 }
 
 }  // namespace
