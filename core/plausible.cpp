@@ -191,6 +191,9 @@ void PlausibleSim::refresh_contact_candidates() {
 void PlausibleSim::integrate(double dt) {
   auto scope = profile_.scope("integrate");
   const int n = static_cast<int>(state_.position.cols());
+  // a ring that starts the step inside a collider's margin (a scene placed it there, or its torus
+  // turned to reach farther) moves out before the step, so the move makes no velocity
+  if (!model_.colliders.empty()) collide();
   state_.previous = state_.position;
   for (int i = 0; i < n; ++i) {
     const double w = model_.inverse_mass[i];
@@ -249,7 +252,8 @@ void PlausibleSim::orient() {
     const Vec3 old = state_.contact_axis.col(i);
     // the axis's sign is arbitrary: follow it from the side the old one is on
     const Vec3 target = !first && axis.dot(old) < 0.0 ? Vec3(-axis) : axis;
-    state_.contact_axis.col(i) = first ? target : Vec3((old + follow * (target - old)).normalized());
+    state_.contact_axis.col(i) =
+        first ? target : Vec3((old + follow * (target - old)).normalized());
   }
 }
 
