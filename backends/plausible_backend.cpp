@@ -43,7 +43,7 @@ BackendInfo plausible_backend_info() {
   using T = KnobSpec::Type;
   BackendInfo info;
   info.name = "plausible";
-  info.cost_us_per_ring_step = 0.3;
+  info.cost_us_per_ring_step = 12.0;
   info.bytes_per_ring = 1000;
   info.summary = "the paper's mass-per-ring model: Provot edge constraints, repulsion, swivel";
   info.knobs = {
