@@ -88,9 +88,8 @@ RigidMotion fit_rigid_motion(const RigidFreedom& freedom, const Positions& posit
   return rigid;
 }
 
-void damp_toward_rigid(const RigidFreedom& freedom, const Positions& position,
-                       const MassView& mass, const MassView& inverse_mass, double fraction,
-                       Positions& velocity) {
+void damp_toward_rigid(const RigidFreedom& freedom, const Positions& position, const MassView& mass,
+                       const MassView& inverse_mass, double fraction, Positions& velocity) {
   if (fraction <= 0.0) return;
   const RigidMotion rigid = fit_rigid_motion(freedom, position, velocity, mass, inverse_mass);
   const int n = static_cast<int>(position.cols());

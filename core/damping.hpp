@@ -38,8 +38,7 @@ RigidMotion fit_rigid_motion(const RigidFreedom& freedom, const Positions& posit
                              const MassView& inverse_mass);
 
 // v_i += fraction * (rigid(x_i) - v_i) for every free mass; fraction in [0, 1]
-void damp_toward_rigid(const RigidFreedom& freedom, const Positions& position,
-                       const MassView& mass, const MassView& inverse_mass, double fraction,
-                       Positions& velocity);
+void damp_toward_rigid(const RigidFreedom& freedom, const Positions& position, const MassView& mass,
+                       const MassView& inverse_mass, double fraction, Positions& velocity);
 
 }  // namespace chainmail

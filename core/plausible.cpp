@@ -60,10 +60,9 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   for (int i = 0; i < n; ++i) model_.inverse_mass[i] = 1.0 / model_.mass[i];
   for (int pinned : resolve_pins(scene, weave)) model_.inverse_mass[pinned] = 0.0;
   const double fraction_length = settings.max_link_fraction * ring.inner_diameter();
-  model_.extended_swivel =
-      settings.swivel_fit            ? fitted_extended_swivel(ring, fraction_length)
-      : settings.swivel_extended > 0 ? settings.swivel_extended
-                                     : ring.wire_radius / ring.centre_radius;
+  model_.extended_swivel = settings.swivel_fit ? fitted_extended_swivel(ring, fraction_length)
+                           : settings.swivel_extended > 0 ? settings.swivel_extended
+                                                          : ring.wire_radius / ring.centre_radius;
   // the link length from the ring geometry, aimed a tolerance short of it so that a solve
   // converged within the tolerance never stretches a link beyond it
   const double geometric =

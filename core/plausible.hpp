@@ -36,7 +36,7 @@ struct PlausibleSettings {
   // free rings best, so falling or turning as a whole is not slowed (0.5 lets a 100-row curtain
   // whip)
   double damping = 5.0;
-  bool damp_rigid = false;  // damp all motion instead (a drag that also slows free fall)
+  bool damp_rigid = false;          // damp all motion instead (a drag that also slows free fall)
   double repulsion_fraction = 0.7;  // repulsion range / inner diameter
   // non-neighbours closer than the range are pushed apart to it in the constraint sweeps (a
   // minimum distance, stable at any dt); repulsion_spring: the paper's spring that all rings emit

@@ -59,8 +59,7 @@ bool Projection::solve(const std::vector<ProjectionRow>& rows, const std::vector
 }
 
 ProjectionResult Projection::project(const std::vector<ProjectionRow>& rows,
-                                     const std::vector<double>& inverse_mass,
-                                     Positions& position) {
+                                     const std::vector<double>& inverse_mass, Positions& position) {
   ProjectionResult result;
   const int m = static_cast<int>(rows.size());
   by_ring_.resize(inverse_mass.size());

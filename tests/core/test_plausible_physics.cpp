@@ -9,10 +9,10 @@
 #include "core/colliders.hpp"
 #include "core/geometry.hpp"
 #include "core/link_length.hpp"
-#include "core/weave.hpp"
 #include "core/massspring.hpp"
 #include "core/metrics.hpp"
 #include "core/plausible.hpp"
+#include "core/weave.hpp"
 
 namespace chainmail {
 namespace {
@@ -54,8 +54,7 @@ TEST(PlausiblePhysics, SheetAtRestOnAPlaneTurnsNoRing) {
     const Orientations before = sim.state().orientation;
     sim.step(dt);
     for (int i = 0; i < weave.size(); ++i) {
-      const double turn =
-          quat_of(before, i).angularDistance(quat_of(sim.state().orientation, i));
+      const double turn = quat_of(before, i).angularDistance(quat_of(sim.state().orientation, i));
       if (turn > worst) worst = turn, worst_ring = i;
     }
   }
@@ -159,8 +158,8 @@ TEST(PlausiblePhysics, NoLinkBeyondTheRingsOnAnyBenchScene) {
   for (const char* name :
        {"curtain", "table_cloth", "chain_pile", "chain_catenary", "sphere_drape"}) {
     SCOPED_TRACE(name);
-    const Scene scene = load_scene_file(std::string(CHAINMAIL_SOURCE_DIR "/bench/scenes/") +
-                                        name + ".json");
+    const Scene scene =
+        load_scene_file(std::string(CHAINMAIL_SOURCE_DIR "/bench/scenes/") + name + ".json");
     const Weave weave = make_weave(scene.weave, scene.ring);
     PlausibleSim sim;
     sim.reset(scene, weave, PlausibleSettings{});
@@ -178,8 +177,8 @@ TEST(PlausiblePhysics, NoLinkBeyondTheRingsOnAnyBenchScene) {
       options.other_pairs = false;
       peak = std::max(peak, measure(frame, weave, scene, options).max_stretch);
     }
-    std::printf("%s: peak max_stretch %.4f, largest residual %.2g of the link length\n", name,
-                peak, residual);
+    std::printf("%s: peak max_stretch %.4f, largest residual %.2g of the link length\n", name, peak,
+                residual);
     EXPECT_LE(peak, 1.0);
     EXPECT_LE(residual, sim.model().settings.tolerance);
   }
@@ -194,8 +193,8 @@ double torus_depth(const Collider& collider, const Vec3& centre, const Quat& q,
   for (int k = 0; k < 256; ++k) {
     const double s = 2.0 * std::numbers::pi * k / 256.0;
     Vec3 normal;
-    const double d = collider_distance(
-        collider, centre_circle_point(centre, q, ring.centre_radius, s), normal);
+    const double d =
+        collider_distance(collider, centre_circle_point(centre, q, ring.centre_radius, s), normal);
     depth = std::max(depth, ring.wire_radius - d);
   }
   return depth;
