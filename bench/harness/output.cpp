@@ -100,6 +100,14 @@ nlohmann::json backend_entry(const BackendRun& b) {
     stages[stage] = {{"calls", stats.calls}, {"ms", 1e3 * stats.seconds}};
   }
   entry["stages"] = stages;
+  if (b.residual.steps > 0) {
+    const ResidualStats& r = b.residual;
+    entry["residual"] = {{"last", json_number(r.last)},
+                         {"max", json_number(r.max)},
+                         {"tolerance", r.tolerance},
+                         {"steps", r.steps},
+                         {"unconverged_steps", r.unconverged}};
+  }
   return entry;
 }
 

@@ -134,7 +134,10 @@ TEST_F(Cli, UnstableRunExitsOneWithItsVerdictWritten) {
              {"duration", 1.0},
              {"backends",
               {{"plausible",
-                {{"dt", 0.05}, {"repulsion_stiffness", 1e6}, {"repulsion_fraction", 1.5}}}}}});
+                {{"dt", 0.05},
+         {"repulsion_spring", true},
+         {"newton_steps", 0},
+         {"iterations", 1}, {"repulsion_stiffness", 1e6}, {"repulsion_fraction", 1.5}}}}}});
   const Outcome run = chainmail("run " + file + " --quiet --out " + out() + cache());
   ASSERT_EQ(run.status, 1) << run.output;
   std::ifstream in(fs::path(out()) / "summary.json");

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -195,7 +196,8 @@ TEST(Run, SameSceneTwiceSameHash) {
 }
 
 TEST(Run, InjectedInstabilityIsReportedNotCrashed) {
-  // a time step far too large for the repulsion springs. A range of 1.5 inner diameters puts
+  // a time step far too large for the paper's explicit repulsion springs, with one sweep and no
+  // Newton steps to hold the weave together. A range of 1.5 inner diameters puts
   // non-neighbours inside it at the rest layout, and 1e6 N/m over 0.05 s throws them at
   // kilometres per second in the first step: the first sample after it is still finite, so the
   // first check that fails is max_speed (before torn_links, which fails too)
@@ -203,7 +205,10 @@ TEST(Run, InjectedInstabilityIsReportedNotCrashed) {
   doc["weave"] = {{"type", "4in1"}, {"rows", 8}, {"cols", 8}, {"plane", "xz"}};
   doc["pins"] = json::array();
   doc["backends"] = {
-      {"plausible", {{"dt", 0.05}, {"repulsion_stiffness", 1e6}, {"repulsion_fraction", 1.5}}}};
+      {"plausible", {{"dt", 0.05},
+         {"repulsion_spring", true},
+         {"newton_steps", 0},
+         {"iterations", 1}, {"repulsion_stiffness", 1e6}, {"repulsion_fraction", 1.5}}}};
   const Scene scene = scene_from_json(doc, "test");
   const SceneRun run = run_scene(scene, quiet());
   ASSERT_EQ(run.runs.size(), 1u);
@@ -353,12 +358,38 @@ TEST(Run, SettledAgainstTheEnergyReleased) {
   const SceneRun falling = run_scene(scene_from_json(doc, "test"), quiet());
   ASSERT_TRUE(falling.runs[0].settled.has_value());
   EXPECT_FALSE(*falling.runs[0].settled);
-  doc["weave"]["center"] = {0, 0.0008, 0};  // resting on the plane y = 0 (wire radius 0.8 mm)
+  // resting on the plane y = 0: the 4-in-1 rest layout tilts the ring, so its torus reaches
+  // a + c sqrt(1 - (axis . y)^2) below its centre (exact torus geometry)
+  const Scene lone = scene_from_json(doc, "test");
+  const Weave weave = make_weave(lone.weave, lone.ring);
+  const Orientations& o = weave.rest_orientation;
+  const Vec3 axis = Quat(o(0, 0), o(1, 0), o(2, 0), o(3, 0)) * Vec3::UnitY();
+  const double reach = lone.ring.wire_radius +
+                       lone.ring.centre_radius * std::sqrt(1.0 - axis.y() * axis.y());
+  doc["weave"]["center"] = {0, reach, 0};
   doc["colliders"] = json::array({{{"type", "plane"}, {"point", {0, 0, 0}}}});
   doc["duration"] = 1.0;
   const SceneRun resting = run_scene(scene_from_json(doc, "test"), quiet());
   ASSERT_TRUE(resting.runs[0].settled.has_value());
   EXPECT_TRUE(*resting.runs[0].settled);
+}
+
+TEST(Run, ResidualOfTheSolveIsReportedAgainstItsTolerance) {
+  // the default solve converges every step; one sweep without Newton steps cannot hang a curtain
+  // and says so in its residual
+  const SceneRun converged = run_scene(small_curtain(), quiet());
+  const ResidualStats& good = converged.runs[0].residual;
+  EXPECT_EQ(good.steps, converged.runs[0].steps);
+  EXPECT_GT(good.tolerance, 0.0);
+  EXPECT_EQ(good.unconverged, 0);
+  EXPECT_LE(good.last, good.tolerance);
+  json doc = scene_to_json(small_curtain());
+  doc["backends"] = {{"plausible", {{"iterations", 1}, {"newton_steps", 0}}}};
+  const SceneRun capped = run_scene(scene_from_json(doc, "test"), quiet());
+  const ResidualStats& bad = capped.runs[0].residual;
+  EXPECT_GT(bad.unconverged, 0);
+  EXPECT_GT(bad.max, bad.tolerance);
+  EXPECT_GE(bad.max, bad.last);
 }
 
 TEST(Run, OverstretchedIsFlaggedApartFromStability) {
