@@ -11,7 +11,7 @@
 #include "bench/harness/interrupt.hpp"
 #include "bench/harness/output.hpp"
 #include "bench/harness/output_folder.hpp"
-#include "bench/harness/process.hpp"
+#include "bench/harness/data_dir.hpp"
 #include "bench/harness/render_output.hpp"
 #include "bench/harness/run.hpp"
 #include "bench/harness/scene_file.hpp"
@@ -230,7 +230,7 @@ std::string bench_readme(double minutes) {
 int bench_command(const BenchCommand& command) {
   const auto started = std::chrono::steady_clock::now();
   const BenchPlan& plan = bench_plan();
-  const std::string scenes = source_dir() + "/bench/scenes/";
+  const std::string scenes = data_dir().scenes() + "/";
   // bad names are bad input before anything runs or is written
   if (!command.backends.empty())
     select_backends(load_scene_file(scenes + plan.scenes[0].file), command.backends);

@@ -122,7 +122,8 @@ nlohmann::json summary_json(const SceneRun& run) {
                  {"count", run.weave.size()}};
   out["build"] = {{"version", chainmail_version()},
                   {"commit", chainmail_commit()},
-                  {"compiler", chainmail_build()},
+                  {"compiler", chainmail_compiler()},
+                  {"build_type", chainmail_build_type()},
                   {"threads", 1},
                   {"host_cores", std::thread::hardware_concurrency()}};
   if (run.reference_note) out["reference"] = *run.reference_note;

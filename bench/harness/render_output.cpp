@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "backends/backend.hpp"
+#include "bench/harness/data_dir.hpp"
 #include "bench/harness/frame_stream.hpp"
 #include "core/scene.hpp"
 #if CHAINMAIL_HAVE_RENDER
@@ -21,6 +22,7 @@ std::function<void(const SceneRun&, const std::string&)> make_render_writer(
   // asked
   ::setenv("MESA_SHADER_CACHE_DISABLE", "true", /*overwrite=*/0);
   render::RenderSettings settings;
+  settings.shader_dir = render_shader_dir();
   if (!material.empty()) settings.material = material;
   // the textured-cloth baseline shows a chainmail texture unless another shader is asked for
   settings.cloth_shader = cloth_shader.empty() ? "texture" : cloth_shader;

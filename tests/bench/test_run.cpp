@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include <limits>
+#include <thread>
 
 #include "backends/backend.hpp"
 #include "bench/harness/commands.hpp"
@@ -13,6 +14,7 @@
 #include "bench/harness/run.hpp"
 #include "bench/harness/scene_file.hpp"
 #include "bench/harness/usage_error.hpp"
+#include "bench/harness/version.hpp"
 
 namespace chainmail {
 namespace {
@@ -312,7 +314,16 @@ TEST(Run, ContractFilesWritten) {
     EXPECT_TRUE(entry.contains(key)) << key;
   }
   EXPECT_TRUE(summary["ring"].contains("wire_radius"));
-  EXPECT_TRUE(summary["build"].contains("version"));
+  // what built it and where it ran
+  const json& build = summary["build"];
+  EXPECT_EQ(build["version"], chainmail_version());
+  EXPECT_EQ(build["commit"], chainmail_commit());
+  EXPECT_EQ(build["compiler"], chainmail_compiler());
+  EXPECT_EQ(build["build_type"], chainmail_build_type());
+  EXPECT_FALSE(build["build_type"].get<std::string>().empty());
+  EXPECT_EQ(build["threads"], 1);  // every backend steps on one thread
+  EXPECT_EQ(build["host_cores"], std::thread::hardware_concurrency());
+  EXPECT_EQ(build.size(), 6u);
   for (const char* key : {"max_stretch", "penetration_max_linked", "penetration_mean_other"})
     EXPECT_TRUE(entry["final"].contains(key)) << key;
   EXPECT_FALSE(entry["final"].contains("drape_coefficient"));  // no support: absent, not zero
