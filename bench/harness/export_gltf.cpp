@@ -7,9 +7,13 @@
 //   first frame as N instances. Importers show the default scene (the animated one); the
 //   instanced one becomes a scene of its own (Blender) or gltf.scenes[1] (three.js), never drawn
 //   on top of the first. The extension is used, not required: a loader without it still loads.
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
