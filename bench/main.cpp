@@ -14,6 +14,7 @@
 #include "bench/harness/data_dir.hpp"
 #include "bench/harness/info_commands.hpp"
 #include "bench/harness/interrupt.hpp"
+#include "bench/harness/render_command.hpp"
 #include "bench/harness/stability.hpp"
 #include "bench/harness/sweep.hpp"
 #include "bench/harness/usage_error.hpp"
@@ -62,6 +63,13 @@ std::string backends_help(const std::string& what) {
              (chainmail::backend_built(name) ? "" : " (not built)");
   return what + ": a comma-separated list of " + names + "; or all";
 }
+
+struct RenderFlags {
+  CLI::App* app = nullptr;
+  chainmail::RenderCommand command;
+  std::string backends;
+  bool no_images = false;
+};
 
 // this binary, so sweep points run the very same build
 std::string self_path(const char* argv0) {
@@ -134,6 +142,9 @@ void add_run(CLI::App& app, RunFlags& flags) {
                   "ring material for --render: steel, silver, gold, copper, brass, bronze, "
                   "titanium")
       ->default_str("steel");
+  sub->add_option("--export", run.exports,
+                  "write every backend's frames as gltf (export/<backend>.glb) or npz "
+                  "(export/<backend>.npz); repeat for both");
   sub->add_option("--set", run.overrides, "override a scene key: dotted.key=value")
       ->default_str("");
   sub->add_option("--cache", run.cache_dir,
@@ -212,6 +223,31 @@ void add_info(CLI::App& app, InfoFlags& flags) {
                         "print each valid scene with every default filled in, one JSON line");
 }
 
+void add_render(CLI::App& app, RenderFlags& flags) {
+  chainmail::RenderCommand& render = flags.command;
+  CLI::App* sub = flags.app = app.add_subcommand(
+      "render", "draw a saved run's frames again (run --frames), without simulating");
+  sub->add_option("run", render.run_dir, "run folder with frames/")->required();
+  sub->add_option("--backends", flags.backends, "panels, in this order (default: all with frames)");
+  sub->add_option("--out", render.out_dir, "output folder (default results/<scene>/render)");
+  sub->add_flag("--force", render.force, "replace an empty folder chainmail did not make");
+  sub->add_option("--size", render.size, "panel size WxH, pixels (default 1280x720)");
+  sub->add_option("--samples", render.samples,
+                  "multisamples per pixel, 0 or 1 for none (default 4)")
+      ->check(CLI::Range(0, 16));
+  sub->add_option("--camera", render.camera,
+                  "scene (default), auto, front, side, top, or X,Y,Z:X,Y,Z[:FOV_DEG] (position, "
+                  "target, field of view)");
+  sub->add_option("--fps", render.fps, "frame rate of --video (default 20)");
+  sub->add_flag("--video", render.video, "also join the images into images/compare.mp4 (ffmpeg)");
+  sub->add_option("--material", render.material,
+                  "ring material: steel, silver, gold, copper, brass, bronze, titanium");
+  sub->add_option("--shader", render.shader,
+                  "cloth shader: blinn_phong, texture, bump, displacement, mirror");
+  sub->add_option("--export", render.exports, "also export frames: gltf, npz (repeat for both)");
+  sub->add_flag("--no-images", flags.no_images, "exports only (no GL needed)");
+}
+
 // the exit status when parsing ends the program (help, version, a parse error), else nullopt
 std::optional<int> parse(CLI::App& app, int argc, char** argv) {
   try {
@@ -260,6 +296,13 @@ int stability_main(StabilityFlags& flags) {
   return chainmail::stability_command(flags.command);
 }
 
+int render_main(RenderFlags& flags) {
+  read_backends(flags.app, flags.backends, flags.command.backends);
+  flags.command.fps_given = flags.app->count("--fps") > 0;
+  flags.command.images = !flags.no_images;
+  return chainmail::render_command(flags.command);
+}
+
 int bench_main(BenchFlags& flags, const char* argv0) {
   read_backends(flags.app, flags.backends, flags.command.backends);
   flags.command.executable = self_path(argv0);
@@ -280,6 +323,7 @@ int main(int argc, char** argv) {
   SweepFlags sweep_flags;
   StabilityFlags stability_flags;
   BenchFlags bench_flags;
+  RenderFlags render_flags;
   add_run(app, run_flags);
   add_sweep(app, sweep_flags);
   add_stability(app, stability_flags);
@@ -287,12 +331,13 @@ int main(int argc, char** argv) {
   InfoFlags info_flags;
   add_info(app, info_flags);
   app.footer(help_footer());
+  add_render(app, render_flags);
   if (const std::optional<int> status = parse(app, argc, argv)) return *status;
 
   install_interrupt_handlers();
   try {
     for (const CLI::App* sub :
-         {run_flags.app, sweep_flags.app, stability_flags.app, bench_flags.app})
+         {run_flags.app, sweep_flags.app, stability_flags.app, bench_flags.app, render_flags.app})
       check_out_flag(sub);
     if (*run_flags.app) return run_main(run_flags);
     if (*sweep_flags.app) return sweep_main(sweep_flags, argv[0]);
@@ -300,6 +345,7 @@ int main(int argc, char** argv) {
     if (*bench_flags.app) return bench_main(bench_flags, argv[0]);
     if (*info_flags.backends) return backends_command(info_flags.json);
     if (*info_flags.check) return check_command(info_flags.check_command);
+    if (*render_flags.app) return render_main(render_flags);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "chainmail: %s\n", e.what());
     return kExitBadInput;

@@ -4,12 +4,14 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
 
+#include "bench/harness/frame_stream.hpp"
 #include "bench/harness/scene_file.hpp"
 #include "bench/harness/table_cells.hpp"
 #include "bench/harness/version.hpp"
@@ -201,6 +203,17 @@ std::string frame_csv(const RingFrame& frame, const Weave& weave) {
   return out.str();
 }
 
+void round_as_csv(RingFrame& frame) {
+  const auto round = [](double& value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", value);
+    value = std::strtod(text, nullptr);
+  };
+  round(frame.t);
+  for (Eigen::Index k = 0; k < frame.position.size(); ++k) round(frame.position.data()[k]);
+  for (Eigen::Index k = 0; k < frame.orientation.size(); ++k) round(frame.orientation.data()[k]);
+}
+
 void write_run_folder(const SceneRun& run, const std::string& folder,
                       const OutputOptions& options) {
   fs::create_directories(folder);
@@ -221,6 +234,14 @@ void write_run_folder(const SceneRun& run, const std::string& folder,
   }
   write_file_atomic(folder + "/table.md", table_markdown(run));
   if (options.render && !run.interrupted) options.render(run, folder + "/images");
+  // exports at full precision, also of what an interrupted run finished
+  for (const BackendRun& b : run.runs) {
+    if (options.exports.empty() || b.stream.empty()) continue;
+    auto reader = FrameReader::open(b.stream, run.weave.size());
+    if (!reader) continue;
+    write_exports({run.scene, run.weave, b.name}, stream_sequence(std::move(*reader)),
+                  options.exports, folder + "/export");
+  }
   std::error_code ignored;
   fs::remove_all(folder + "/.streams", ignored);
 }
