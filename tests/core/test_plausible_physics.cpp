@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "physics_oracles.hpp"
 #include "bench/harness/scene_file.hpp"
 #include "core/colliders.hpp"
 #include "core/geometry.hpp"
@@ -261,17 +262,7 @@ TEST(LinkLength, FromTheRingGeometry) {
   EXPECT_LT(fitted, inner);
 }
 
-// sag of the catenary y = A cosh(x / A) of length L over the span S: L = 2 A sinh(S / 2A),
-// solved for A by bisection (the left side falls monotonically in A)
-double catenary_sag(double span, double length) {
-  double lo = 1e-6 * span, hi = 1e6 * span;
-  for (int k = 0; k < 200; ++k) {
-    const double mid = std::sqrt(lo * hi);
-    (2.0 * mid * std::sinh(span / (2.0 * mid)) > length ? lo : hi) = mid;
-  }
-  const double A = std::sqrt(lo * hi);
-  return A * (std::cosh(span / (2.0 * A)) - 1.0);
-}
+using test::catenary_sag;
 
 TEST(PlausiblePhysics, ChainHangsAsTheCatenary) {
   // chains of 40, 60 and 80 rings between two pins at equal height, links of the geometric
