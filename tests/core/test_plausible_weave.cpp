@@ -6,10 +6,12 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <random>
 
 #include <nlohmann/json.hpp>
 
 #include "bench/harness/scene_file.hpp"
+#include "core/constraints.hpp"
 #include "core/geometry.hpp"
 #include "core/link_length.hpp"
 #include "core/orientation.hpp"
@@ -86,6 +88,25 @@ TEST(WeaveLimits, RowsStretchOnlyAsFarAsTheirSharedRingsAllow) {
   EXPECT_GT(kFourInOneRowSpacing * inner, limits.row);
   EXPECT_LT(kFourInOneRowSpacing * inner, limits.row_max);
   EXPECT_GT(2.0 * kFourInOneRowAdvance * inner, limits.column);
+}
+
+TEST(EdgeConstraint, AnEdgeAtItsMaximumStaysThere) {
+  // an edge placed at its maximum length lands a rounding above or below it; one above must be
+  // pulled in by that rounding, not to its minimum (its square root can equal the maximum)
+  const double min_length = 0.0018, max_length = 0.0077477;
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal;
+  int corrected = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const Vec3 p0(normal(rng) * 0.01, normal(rng) * 0.01, normal(rng) * 0.01);
+    const Vec3 u = Vec3(normal(rng), normal(rng), normal(rng)).normalized();
+    const Vec3 p1 = p0 + max_length * u;
+    Vec3 corr0, corr1;
+    if (!solve_edge_constraint(p0, 0.0, p1, 1.0, min_length, max_length, corr0, corr1)) continue;
+    ++corrected;
+    ASSERT_LT(corr1.norm(), 1e-15) << "edge " << k << " moved by " << corr1.norm() << " m";
+  }
+  EXPECT_GT(corrected, 0);  // some land above
 }
 
 // an 8 x 8 sheet in the plane y = 0, no gravity, nothing to hit
