@@ -61,8 +61,8 @@ TEST(Plausible, OverExtensionShrinksWithIterations) {
 }
 
 TEST(Plausible, OutwardPassRemovesHangingStretch) {
-  // the outward pass on the paper's edges alone (its swivel, no compression limits): with four
-  // sweeps and no Newton steps, the diagonal limits would undo its one-sided moves
+  // the outward pass with the paper's rule (no compression limits): with four sweeps and no Newton
+  // steps, the diagonal bounds undo its one-sided moves
   const Scene scene = curtain(30, 30);
   const Weave weave = make_weave(scene.weave, scene.ring);
   PlausibleSettings settings;
@@ -70,7 +70,6 @@ TEST(Plausible, OutwardPassRemovesHangingStretch) {
   settings.newton_steps = 0;
   settings.shock_propagation = true;
   settings.compression_limits = false;
-  settings.swivel_fit = false;
   PlausibleSim sim;
   sim.reset(scene, weave, settings);
   for (int s = 0; s < 250; ++s) sim.step(0.004);
