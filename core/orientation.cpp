@@ -129,6 +129,16 @@ double fitted_extended_swivel(const RingGeometry& ring, double max_link_distance
   return 0.5 * (lo + hi);
 }
 
+Vec3 swivel_hinge(const Vec3& pull) {
+  const Vec3 normal = Vec3(1.0, 0.0, -1.0).normalized(), along = Vec3(1.0, 0.0, 1.0).normalized();
+  double turn = std::atan2(pull.dot(along), pull.dot(normal));  // (-pi, pi]
+  // a hinge is a line: the pull's direction or its opposite, whichever is nearer the row normal
+  if (turn > 0.5 * std::numbers::pi) turn -= std::numbers::pi;
+  if (turn < -0.5 * std::numbers::pi) turn += std::numbers::pi;
+  turn = std::clamp(turn, -kMaxHingeTurn, kMaxHingeTurn);
+  return std::cos(turn) * normal + std::sin(turn) * along;
+}
+
 void orient_rings(const Positions& position, const Weave& weave, const RingGeometry& ring,
                   const OrientationSettings& settings, Orientations& orientation) {
   const int n = weave.size();
@@ -193,8 +203,14 @@ void orient_rings(const Positions& position, const Weave& weave, const RingGeome
       // In the ring's own frame that axis is (dx, 0, -dz) / |.|: the swivel composes on the right
       const double ratio = 0.5 * (dx + dz) / settings.max_link_distance;
       const double theta = weave.parity[i] * swivel_angle(ratio, min_ratio, extended);
-      const double half_sin = std::sin(0.5 * theta) / std::hypot(dx, dz);
-      q = q * Quat(std::cos(0.5 * theta), half_sin * dx, 0.0, -half_sin * dz);
+      const Vec3 pull = settings.pull ? Vec3(settings.pull->col(i)) : Vec3::Zero();
+      if (pull.squaredNorm() > 0.0) {
+        // the hinge from the pins (paper §6): the pull in the ring's own frame
+        q = q * Quat(Eigen::AngleAxisd(theta, swivel_hinge(basis.transpose() * pull)));
+      } else {
+        const double half_sin = std::sin(0.5 * theta) / std::hypot(dx, dz);
+        q = q * Quat(std::cos(0.5 * theta), half_sin * dx, 0.0, -half_sin * dz);
+      }
     }
     store(orientation, i, q.normalized());
   }

@@ -69,7 +69,9 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
       settings.link_geometry ? weave_max_link_distance(weave, ring, model_.extended_swivel) : 0.0;
   const double max_length =
       geometric > 0.0 ? (1.0 - settings.tolerance) * geometric : fraction_length;
-  model_.edges = colour_ordered_edges(weave, ring.min_link_distance(), max_length);
+  // neighbours as close as the weave's geometry lets them come (the wire thickness without it)
+  const double closest = build_compression_limits();
+  model_.edges = colour_ordered_edges(weave, closest, max_length);
   model_.longest_link = max_length;
   // breadth-first depth from the pins orders the outward pass
   {
@@ -94,6 +96,9 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
                      [&](const EdgeConstraint& x, const EdgeConstraint& y) {
                        return depth[x.b] != depth[y.b] ? depth[x.b] < depth[y.b] : x.b < y.b;
                      });
+  }
+  if (settings.swivel_from_pins && settings.swivel && weave.type == WeaveType::four_in_one) {
+    model_.pin_paths = pin_paths(weave, resolve_pins(scene, weave));
   }
   model_.rigid = rigid_freedom(weave.rest_position, view(model_.inverse_mass));
   model_.colliders = scene.colliders;
@@ -182,6 +187,7 @@ void PlausibleSim::refresh_contact_candidates() {
   hash_.for_each_pair(state_.position, radius, [&](int i, int j) {
     const auto& nb = weave_.neighbours[i];
     if (nb[0] == j || nb[1] == j || nb[2] == j || nb[3] == j) return;  // linked: constraints
+    if (is_diagonal(i, j)) return;  // sharing two neighbours: a minimum distance of its own
     state_.contact_candidates.push_back({i, j});
   });
   state_.contact_anchor = state_.position;
@@ -238,13 +244,19 @@ void PlausibleSim::orient() {
   settings.max_link_distance = model_.settings.max_link_fraction * model_.ring.inner_diameter();
   settings.swivel = model_.settings.swivel;
   settings.extended_angle = model_.extended_swivel;
+  if (!model_.pin_paths.order.empty()) {
+    pull_toward_pins(model_.pin_paths, state_.position, state_.pull);
+    settings.pull = &state_.pull;
+  }
   orient_rings(state_.position, weave_, model_.ring, settings, state_.orientation);
   // the ring axes the colliders see follow the orientations a fraction per step: a torus's reach
   // into a collider moves its centre, which turns its neighbours; followed at once, rings on a
   // floor lift and turn each other without end
   const Orientations& o = state_.orientation;
   const int n = static_cast<int>(o.cols());
-  constexpr double follow = 0.5;  // rest on a floor settles for 0.3 to 0.7; 1 and 0.2 do not
+  // a sheet at rest on a floor settles for 0.1 to 0.25; from 0.3 (0.5 with the paper's swivel
+  // and rule, which settle only after a burst) the loop grows from round-off into bursts of motion
+  constexpr double follow = 0.2;
   const bool first = state_.contact_axis.cols() != n;
   if (first) state_.contact_axis.resize(3, n);
   for (int i = 0; i < n; ++i) {

@@ -10,6 +10,7 @@
 #include "core/frame.hpp"
 #include "core/link_length.hpp"
 #include "core/orientation.hpp"
+#include "core/pin_paths.hpp"
 #include "core/profile.hpp"
 #include "core/projection.hpp"
 #include "core/scene.hpp"
@@ -52,12 +53,21 @@ struct PlausibleSettings {
   bool swivel = true;            // paper §4 swivel (4in1)
   double swivel_extended = 0.0;  // rad, swivel at full extension; 0 = the paper's a/c
   // take the swivel at full extension from the ring geometry (fitted_extended_swivel) instead
-  bool swivel_fit = false;
+  bool swivel_fit = true;
   // before the sweeps, one pass outward from the pins that moves only the ring farther from a pin
   // (Provot's fixed-end rule; shock propagation): removes the stretch a hanging sheet accumulates
   // when Gauss-Seidel sweeps alone would need O(rows^2) iterations. Off by default: the Newton
   // steps converge without it, and its one-sided moves bias the shape (a catenary sags 5 % less)
   bool shock_propagation = false;
+  // 4-in-1: how close neighbours, and rings that share two neighbours (i +- 1, j +- 1), can come,
+  // from the ring geometry (core/weave_limits), enforced in the sweeps; off: the paper's rule,
+  // neighbours as close as the wire thickness and the sheet never compressed along both axes
+  bool compression_limits = true;
+  // 4-in-1: each ring's swivel hinge turns toward the pins it hangs from, the direction propagated
+  // from the pins through the weave (core/pin_paths; paper §6), so a sheet hung from its corners
+  // leans along the diagonals; off, or without pins: the row normal (weighted by the neighbour
+  // distances) everywhere
+  bool swivel_from_pins = true;
 };
 
 // one Provot edge: a plain record, solved by solve_edge_constraint
@@ -75,6 +85,9 @@ struct PlausibleModel {
   std::vector<EdgeConstraint> edges;    // (m) neighbour links
   double longest_link = 0.0;            // m, the largest max_length: the solver's length scale
   std::vector<EdgeConstraint> outward;  // edges reachable from a pin, a = nearer the pin, by depth
+  // rings that share two neighbours (4-in-1 with compression_limits), kept within their bounds
+  std::vector<EdgeConstraint> diagonals;
+  PinPaths pin_paths;  // 4-in-1 with swivel_from_pins: the rings breadth-first from the pins
   std::vector<Collider> colliders;
   Vec3 gravity = Vec3::Zero();  // m/s^2
   RigidFreedom rigid;           // rigid motions the pins leave the sheet (damping spares them)
@@ -92,6 +105,7 @@ struct PlausibleState {
   Positions previous;                // (3, n) m, positions at the start of the step
   Positions force;                   // (3, n) N, accumulated external + repulsion
   Orientations orientation;          // (4, n) w, x, y, z
+  Positions pull;                    // (3, n) m, toward the pins each ring hangs from (pin_paths)
   Positions contact_axis;            // (3, n) unit, ring axes as the colliders see them
   Eigen::VectorXd contact_push;      // (n) m, collider push-out this step (0: no contact)
   Positions contact_normal;          // (3, n) unit, last collider normal this step
@@ -136,6 +150,10 @@ class PlausibleSim {
   // one sweep each; they return the largest violation they met, m
   double solve_constraints();
   double solve_contacts();
+  double solve_diagonals();
+  // the diagonal records and the neighbours' closest approach (core/plausible_weave.cpp), m
+  double build_compression_limits();
+  bool is_diagonal(int a, int b) const;
   double collide();
   // m, how far ring's centre must stay from a collider with outward normal n
   double collider_margin(int ring, const Vec3& normal) const;

@@ -24,6 +24,7 @@ void PlausibleSim::solve_positions() {
   state_.residual = 0.0;
   while (state_.sweeps < model_.settings.iterations) {
     double residual = solve_constraints();
+    if (!model_.diagonals.empty()) residual = std::max(residual, solve_diagonals());
     if (contacts) residual = std::max(residual, solve_contacts());
     if (colliders) residual = std::max(residual, collide());
     ++state_.sweeps;

@@ -34,6 +34,7 @@ const BenchPlan& bench_plan() {
                {"weave.rows=16", "weave.cols=16", "duration=1.0", "camera.position=[0.03,0.31,0.2]",
                 "camera.target=[0,0.295,0]"},
                quick_sheet},
+              {"corner_hang.json", {"duration=1.0"}, quick_sheet},
               {"table_cloth.json",
                {"weave.rows=16", "weave.cols=16", "duration=1.0", "colliders.0.radius=0.03",
                 "support.radius=0.03", "camera.position=[0.06,0.16,0.17]",
@@ -49,11 +50,13 @@ const BenchPlan& bench_plan() {
                {"weave.cols=40", "duration=1.0"},
                {"weave.cols=6", "duration=0.05"}},
           },
-      // error against run time: the curtain and the table cloth over each backend's dt
-      // (8 x 8 sheets, about 5 cm: the table shrinks to 1.5 cm so that the cloth drapes over it)
+      // error against run time: the curtain, the corner-hung sheet and the table cloth over each
+      // backend's dt (8 x 8 sheets, about 5 cm: the table shrinks to 1.5 cm so that the cloth
+      // drapes over it)
       .sweeps =
           {
               {"curtain.json", {"weave.rows=8", "weave.cols=8", "duration=0.5"}, quick_sheet},
+              {"corner_hang.json", {"weave.rows=8", "weave.cols=8", "duration=0.5"}, quick_sheet},
               {"table_cloth.json",
                {"weave.rows=8", "weave.cols=8", "duration=0.5", "colliders.0.radius=0.015",
                 "support.radius=0.015"},
@@ -216,7 +219,8 @@ std::string bench_readme(double minutes) {
          "(table_cloth), catenary sag error (chain_catenary).\n"
          "- `<scene>/` — each scene's `summary.json`, `metrics.csv` (every sample), `table.md` and "
          "`images/` (the final frame of every backend side by side, when rendering is available).\n"
-         "- `sweep/<scene>/` — error against run time: the curtain and the table cloth (8 x 8) at "
+         "- `sweep/<scene>/` — error against run time: the curtain, the corner-hung sheet and the "
+         "table cloth (8 x 8) at "
          "a range of dt per backend; `sweep.csv` (wall seconds per simulated second, drape error "
          "against the reference run) and `sweep.png` (log-log, Pareto front marked).\n"
          "- `stability/` — the stiff and extreme cases: verdict at default settings and the "
