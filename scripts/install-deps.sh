@@ -8,6 +8,7 @@ packages=(
   libbullet-dev libode-dev
   libosmesa6-dev libegl-dev libgl-dev libgles-dev libstb-dev
   python3-matplotlib python3-jsonschema python3-numpy ffmpeg
+  python3-dev pybind11-dev python3-pytest parallel
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -3,7 +3,8 @@
 # would: the installed `chainmail` run from a folder outside the source tree on an installed
 # scene, and tests/consumer (a project of its own: find_package(chainmail), a backend it
 # registers, the backend contract tests on it, an installed scene stepped) built against the
-# installed package, its tests run. Removes the prefix afterwards.
+# installed package, its tests run; the Python module imported by Debian's python3 from the
+# prefix. Removes the prefix afterwards.
 #   ./scripts/install-test.sh [BUILD_DIR]     (default build/release, already built)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -33,6 +34,31 @@ fi
 "$chainmail" run "$scenes/curtain.json" --backends plausible --reference none --quiet \
   --set weave.rows=6 --set weave.cols=6 --set duration=0.2
 test -s results/curtain/run/summary.json
+
+# the Python module from the installed prefix, with Debian's python3: its data folder and the
+# binary that runs sweep points are found under the same prefix
+pydir=$(find "$prefix" -path '*/dist-packages/chainmail' -type d | head -n 1)
+if [ -n "$pydir" ]; then
+  PYTHONPATH=$(dirname "$pydir") /usr/bin/python3 - "$prefix" <<'PY'
+import os, sys
+import chainmail
+prefix = sys.argv[1]
+assert chainmail.__file__.startswith(prefix), chainmail.__file__
+assert os.environ["CHAINMAIL_DATA_DIR"] == os.path.join(prefix, "share", "chainmail")
+scene = chainmail.load_scene(os.path.join(prefix, "share/chainmail/scenes/curtain.json"),
+                             {"weave.rows": 4, "weave.cols": 4, "duration": 0.04,
+                              "reference": "plausible"})
+sim = chainmail.Simulation(scene, "plausible")
+sim.step(n=5)
+assert sim.positions.shape == (16, 3)
+swept = chainmail.sweep(scene, "backends.{backend}.dt=0.004,0.002", backends=["plausible"],
+                        out="python_sweep", cache="none")
+assert [p["verdict"] for p in swept["points"]] == ["stable", "stable"], swept
+print("install-test: python3 imports chainmail", chainmail.__version__, "from", prefix)
+PY
+else
+  echo "install-test: no Python module installed (built without pybind11)"
+fi
 
 # an outside project against the installed package
 start=$(seconds)

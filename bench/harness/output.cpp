@@ -66,6 +66,20 @@ bool absent(const Metrics& m, const std::string& name) {
   return false;
 }
 
+}  // namespace
+
+nlohmann::json metrics_json(const Metrics& m) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& name : metric_names()) {
+    // absent metrics stay absent, never zero; failed ones (inf, NaN of a blown-up run) are null
+    if (!absent(m, name)) out[name] = json_number(metric_value(m, name));
+  }
+  out["non_finite"] = m.non_finite;
+  return out;
+}
+
+namespace {
+
 nlohmann::json backend_entry(const BackendRun& b) {
   nlohmann::json entry;
   entry["dt"] = b.dt;
@@ -83,16 +97,7 @@ nlohmann::json backend_entry(const BackendRun& b) {
   entry["overstretched"] =
       b.overstretched ? nlohmann::json(*b.overstretched) : nlohmann::json(nullptr);
   entry["peak_stretch"] = b.started() ? json_number(b.peak_stretch) : nlohmann::json(nullptr);
-  nlohmann::json final_metrics = nlohmann::json::object();
-  if (b.started()) {
-    const Metrics& m = b.final_metrics();
-    for (const auto& name : metric_names()) {
-      // absent metrics stay absent, never zero; failed ones (inf, NaN of a blown-up run) are null
-      if (!absent(m, name)) final_metrics[name] = json_number(metric_value(m, name));
-    }
-    final_metrics["non_finite"] = m.non_finite;
-  }
-  entry["final"] = final_metrics;
+  entry["final"] = b.started() ? metrics_json(b.final_metrics()) : nlohmann::json::object();
   if (b.catenary_error) entry["catenary_error"] = json_number(*b.catenary_error);
   nlohmann::json knobs = nlohmann::json::object();
   for (const auto& [k, v] : b.knobs) knobs[k] = v;

@@ -17,6 +17,8 @@ namespace chainmail {
 void write_file_atomic(const std::string& path, const std::string& text);
 
 nlohmann::json summary_json(const SceneRun& run);
+// one sample's metrics as summary.json's "final" holds them (absent metrics left out)
+nlohmann::json metrics_json(const Metrics& m);
 // header of metrics.csv, and one row of it
 std::string metrics_header();
 std::string metrics_row(const std::string& backend, const Sample& sample);
