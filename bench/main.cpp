@@ -167,7 +167,15 @@ void add_sweep(CLI::App& app, SweepFlags& flags) {
   sub->add_option("--out", sweep.out_dir, "output folder (default results/<scene>/sweep)");
   sub->add_flag("--force", sweep.force, "replace an empty folder chainmail did not make");
   sub->add_option("--jobs", sweep.jobs, "points run in parallel")->check(CLI::Range(1, 256));
-  sub->add_flag("--print-jobs", sweep.print_jobs, "print each point's command line and stop");
+  sub->add_flag("--print-jobs", sweep.print_jobs,
+                "print the reference job, then each point's command line, and stop");
+  sub->add_flag("--reference-only", sweep.reference_only,
+                "run the reference into the cache and stop (the job --print-jobs prints first)");
+  sub->add_option("--gather", sweep.gather,
+                  "write DIR/sweep.csv and the plot from the points run into DIR/points by the "
+                  "printed jobs or --slurm");
+  sub->add_option("--slurm", sweep.slurm,
+                  "write a script that submits the sweep to Slurm (reference, array, gather)");
   sub->add_option("--cache", sweep.cache_dir,
                   "reference-run cache folder, or none (default ~/.cache/chainmail)");
 }
@@ -286,6 +294,11 @@ int run_main(RunFlags& flags) {
 
 int sweep_main(SweepFlags& flags, const char* argv0) {
   read_backends(flags.app, flags.backends, flags.command.backends);
+  for (const char* flag : {"--gather", "--slurm"}) {
+    const std::string path = flags.app->count(flag) ? flags.app->get_option(flag)->as<std::string>() : "x";
+    if (path.find_first_not_of(" \t\r\n") == std::string::npos)
+      throw UsageError(std::string(flag) + ": an empty path");
+  }
   flags.command.executable = self_path(argv0);
   return chainmail::sweep_command(flags.command);
 }

@@ -34,10 +34,12 @@ const char* kind_of(mode_t mode) {
   return "not a folder";
 }
 
-// the files a folder's manifest lists, and the command that made it; false without a manifest
-bool read_manifest(const fs::path& folder, std::string& command, std::set<std::string>& files) {
+}  // namespace
+
+bool read_manifest(const std::string& folder, std::string& command,
+                   std::set<std::string>& files) {
   struct stat info {};
-  const fs::path path = folder / kManifestName;
+  const fs::path path = fs::path(folder) / kManifestName;
   if (::lstat(path.c_str(), &info) != 0 || !S_ISREG(info.st_mode) || info.st_size > (64 << 20))
     return false;
   std::ifstream in(path);
@@ -53,6 +55,14 @@ bool read_manifest(const fs::path& folder, std::string& command, std::set<std::s
   }
   return true;
 }
+
+void write_manifest(const std::string& folder, const std::string& command,
+                    const std::vector<std::string>& files) {
+  const json manifest = {{"chainmail", chainmail_version()}, {"command", command}, {"files", files}};
+  std::ofstream(fs::path(folder) / kManifestName) << manifest.dump(1) << "\n";
+}
+
+namespace {
 
 // the first entry under `folder` that its manifest does not list ("" when none)
 std::string first_foreign_entry(const fs::path& folder, const std::set<std::string>& files) {
@@ -202,9 +212,7 @@ OutputFolder::~OutputFolder() {
 }
 
 void OutputFolder::commit() {
-  json manifest = {
-      {"chainmail", chainmail_version()}, {"command", command_}, {"files", files_under(staging_)}};
-  std::ofstream(fs::path(staging_) / kManifestName) << manifest.dump(1) << "\n";
+  write_manifest(staging_, command_, files_under(staging_));
 
   // the destination may have changed while the command ran: ask again before replacing it
   if (const std::string why = replace_refusal(path_, command_, force_); !why.empty()) {

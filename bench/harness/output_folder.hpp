@@ -8,6 +8,7 @@
 // committed (an error, an exception) is removed, and so are the parents claim() created.
 #pragma once
 
+#include <set>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,12 @@ class OutputFolder {
   bool committed_ = false;
   std::vector<std::string> created_parents_;  // deepest last, removed when nothing is committed
 };
+
+// the files a folder's manifest lists, and the command that made it; false without a manifest
+bool read_manifest(const std::string& folder, std::string& command, std::set<std::string>& files);
+// the manifest of `folder`: what `command` made there, the files (relative, sorted) it wrote
+void write_manifest(const std::string& folder, const std::string& command,
+                    const std::vector<std::string>& files);
 
 // why `path` may not be replaced by `command` ("" when it may: absent, or a folder that
 // `command` made holding only the files its manifest lists, or an empty folder under `force`)

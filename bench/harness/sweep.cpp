@@ -21,6 +21,7 @@
 #include "bench/harness/process.hpp"
 #include "bench/harness/run.hpp"
 #include "bench/harness/scene_file.hpp"
+#include "bench/harness/sweep_jobs.hpp"
 #include "bench/harness/usage_error.hpp"
 
 namespace chainmail {
@@ -103,30 +104,49 @@ double reference_run_dt(double scene_reference_dt, double scene_dt,
 
 namespace {
 
-// what every point's `chainmail run` command line shares
-struct SweepJobs {
-  std::string executable, scene_file, cache;  // cache "" = none
-  std::vector<std::string> overrides;         // the command's own, before each point's
-  std::string reference_set;                  // reference_dt=..., after each point's
+}  // namespace
 
-  // point k's command line, writing into `folder` (argv form, no shell in between)
-  std::vector<std::string> args(const SweepPoint& p, size_t k, const std::string& folder) const {
-    std::vector<std::string> args = {executable,
-                                     "run",
-                                     scene_file,
-                                     "--backends",
-                                     p.backend,
-                                     "--out",
-                                     folder + "/points/" + std::to_string(k),
-                                     "--cache",
-                                     cache.empty() ? "none" : cache,
-                                     "--quiet"};
-    for (const auto& s : overrides) args.insert(args.end(), {"--set", s});
-    for (const auto& s : p.sets) args.insert(args.end(), {"--set", s});
-    args.insert(args.end(), {"--set", reference_set});
-    return args;
+std::vector<std::string> SweepJobs::args(const SweepPoint& p, size_t k,
+                                         const std::string& folder) const {
+  std::vector<std::string> args = {executable,
+                                   "run",
+                                   scene_file,
+                                   "--backends",
+                                   p.backend,
+                                   "--out",
+                                   folder + "/points/" + std::to_string(k),
+                                   "--cache",
+                                   cache.empty() ? "none" : cache,
+                                   "--quiet"};
+  for (const auto& s : overrides) args.insert(args.end(), {"--set", s});
+  for (const auto& s : p.sets) args.insert(args.end(), {"--set", s});
+  args.insert(args.end(), {"--set", reference_set});
+  return args;
+}
+
+std::vector<std::string> sweep_args(const SweepCommand& command, const SweepJobs& jobs,
+                                    const std::vector<std::string>& extra) {
+  std::vector<std::string> args = {jobs.executable, "sweep", jobs.scene_file};
+  for (const auto& v : command.vary) args.insert(args.end(), {"--vary", v});
+  std::string backends;
+  for (const auto& b : command.backends) backends += (backends.empty() ? "" : ",") + b;
+  if (!backends.empty()) args.insert(args.end(), {"--backends", backends});
+  for (const auto& s : command.overrides) args.insert(args.end(), {"--set", s});
+  args.insert(args.end(), {"--cache", jobs.cache.empty() ? "none" : jobs.cache});
+  args.insert(args.end(), extra.begin(), extra.end());
+  return args;
+}
+
+std::string command_line(const std::vector<std::string>& args) {
+  std::string line;
+  for (const auto& a : args) {
+    if (!line.empty()) line += ' ';
+    line += shell_quote(a);
   }
-};
+  return line;
+}
+
+namespace {
 
 // each point's scene checked before anything runs (a bad value is bad input); returns each
 // point's time step for its own backend, s
@@ -156,16 +176,12 @@ double sweep_reference_dt(const Scene& base, const std::vector<SweepPoint>& poin
   return reference_run_dt(base.reference_dt, scene_dt, swept);
 }
 
-void print_jobs(const SweepJobs& jobs, const std::vector<SweepPoint>& points,
-                const std::string& out) {
-  for (size_t k = 0; k < points.size(); ++k) {
-    std::string line;
-    for (const auto& a : jobs.args(points[k], k, out)) {
-      if (!line.empty()) line += ' ';
-      line += shell_quote(a);
-    }
-    std::printf("%s\n", line.c_str());
-  }
+// the reference job first (with a cache: the points read it from there), then one line per point
+void print_jobs(const SweepCommand& command, const SweepPlan& plan) {
+  if (!plan.jobs.cache.empty())
+    std::printf("%s\n", command_line(sweep_args(command, plan.jobs, {"--reference-only"})).c_str());
+  for (size_t k = 0; k < plan.points.size(); ++k)
+    std::printf("%s\n", command_line(plan.jobs.args(plan.points[k], k, plan.out)).c_str());
 }
 
 // the reference run once, before the points share it through the cache
@@ -217,8 +233,8 @@ bool sweep_row(const SweepPoint& p, const std::string& summary_file, std::ostrin
   return b["stable"].get<bool>();
 }
 
-// sweep.csv, one row per point read back from each point's summary.json; returns the number of
-// points that did not end stable
+}  // namespace
+
 int write_sweep_csv(const std::vector<SweepAxis>& axes, const std::vector<SweepPoint>& points,
                     const std::string& staging) {
   std::ostringstream csv;
@@ -234,26 +250,58 @@ int write_sweep_csv(const std::vector<SweepAxis>& axes, const std::vector<SweepP
   return unstable;
 }
 
+namespace {
+
+// the grid, the shared job settings and the folder; every point checked before anything runs
+SweepPlan plan_sweep(const SweepCommand& command) {
+  SweepPlan plan;
+  plan.base = load_scene_file(command.scene_file, command.overrides);
+  validate_backend_knobs(plan.base);
+  const std::vector<std::string> names = select_backends(plan.base, command.backends);
+  plan.axes = parse_vary(command.vary);
+  plan.points = sweep_grid(plan.axes, names);
+  const std::vector<double> dts = check_points(command, plan.points);
+  plan.out = command.out_dir.empty() ? "results/" + plan.base.name + "/sweep" : command.out_dir;
+  plan.jobs.executable = command.executable.empty() ? "chainmail" : command.executable;
+  plan.jobs.scene_file = command.scene_file;
+  plan.jobs.cache = resolve_cache_dir(command.cache_dir);
+  plan.jobs.overrides = command.overrides;
+  plan.jobs.reference_set =
+      "reference_dt=" + csv_number(sweep_reference_dt(plan.base, plan.points, dts));
+  return plan;
+}
+
+// at most one of --print-jobs, --reference-only, --gather, --slurm
+void check_modes(const SweepCommand& command) {
+  const int modes = command.print_jobs + command.reference_only + !command.gather.empty() +
+                    !command.slurm.empty();
+  if (modes > 1)
+    throw UsageError("--print-jobs, --reference-only, --gather and --slurm: one at a time");
+  if (!command.gather.empty() && !command.out_dir.empty())
+    throw UsageError("--gather DIR writes sweep.csv into DIR itself: no --out with it");
+}
+
 }  // namespace
 
 int sweep_command(const SweepCommand& command) {
-  const Scene base = load_scene_file(command.scene_file, command.overrides);
-  validate_backend_knobs(base);
-  const std::vector<std::string> names = select_backends(base, command.backends);
-  const std::vector<SweepAxis> axes = parse_vary(command.vary);
-  const std::vector<SweepPoint> points = sweep_grid(axes, names);
-  const std::vector<double> dts = check_points(command, points);
-
-  const std::string out =
-      command.out_dir.empty() ? "results/" + base.name + "/sweep" : command.out_dir;
-  SweepJobs jobs;
-  jobs.executable = command.executable.empty() ? "chainmail" : command.executable;
-  jobs.scene_file = command.scene_file;
-  jobs.cache = resolve_cache_dir(command.cache_dir);
-  jobs.overrides = command.overrides;
-  jobs.reference_set = "reference_dt=" + csv_number(sweep_reference_dt(base, points, dts));
+  check_modes(command);
+  const SweepPlan plan = plan_sweep(command);
+  const SweepJobs& jobs = plan.jobs;
+  const std::string& out = plan.out;
+  const Scene& base = plan.base;
+  const std::vector<SweepPoint>& points = plan.points;
   if (command.print_jobs) {
-    print_jobs(jobs, points, out);
+    print_jobs(command, plan);
+    return kExitOk;
+  }
+  if (command.reference_only) {
+    if (jobs.cache.empty()) throw UsageError("--reference-only: needs a cache, not --cache none");
+    cache_reference(command, jobs);
+    return interrupted() ? kExitInterrupted : kExitOk;
+  }
+  if (!command.gather.empty()) return gather_sweep(command, plan);
+  if (!command.slurm.empty()) {
+    write_slurm_script(command, plan);
     return kExitOk;
   }
 
@@ -261,7 +309,7 @@ int sweep_command(const SweepCommand& command) {
   const std::string staging = folder.staging();
   cache_reference(command, jobs);
   run_points(command, jobs, points, staging);
-  const int unstable = write_sweep_csv(axes, points, staging);
+  const int unstable = write_sweep_csv(plan.axes, points, staging);
   if (!interrupted())
     make_plot("plot_sweep.py", {staging + "/sweep.csv", staging + "/sweep.png", base.name});
   folder.commit();
