@@ -294,8 +294,10 @@ int run_main(RunFlags& flags) {
 
 int sweep_main(SweepFlags& flags, const char* argv0) {
   read_backends(flags.app, flags.backends, flags.command.backends);
+  // an empty --gather or --slurm path is a mistake, not a request for a default
   for (const char* flag : {"--gather", "--slurm"}) {
-    const std::string path = flags.app->count(flag) ? flags.app->get_option(flag)->as<std::string>() : "x";
+    if (!flags.app->count(flag)) continue;
+    const std::string path = flags.app->get_option(flag)->as<std::string>();
     if (path.find_first_not_of(" \t\r\n") == std::string::npos)
       throw UsageError(std::string(flag) + ": an empty path");
   }

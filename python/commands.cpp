@@ -45,7 +45,8 @@ class HarnessSignals {
   }
 
  private:
-  struct sigaction old_int_ {}, old_term_ {};
+  struct sigaction old_int_ {
+  }, old_term_{};
 };
 
 nlohmann::json read_json(const std::string& path) {

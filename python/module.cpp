@@ -40,8 +40,9 @@ void add_scene(py::module_& m) {
       .def_property_readonly("path", [](const PyScene& s) { return s.path; })
       .def_property_readonly("overrides", [](const PyScene& s) { return s.overrides; })
       .def_property_readonly("duration", [](const PyScene& s) { return s.scene.duration; })
-      .def("to_dict", [](const PyScene& s) { return to_python(scene_to_json(s.scene)); },
-           "the resolved scene, every default filled in (summary.json's \"scene\")")
+      .def(
+          "to_dict", [](const PyScene& s) { return to_python(scene_to_json(s.scene)); },
+          "the resolved scene, every default filled in (summary.json's \"scene\")")
       .def("__repr__", [](const PyScene& s) {
         return "<chainmail.Scene '" + s.scene.name + "' from " + s.path + ">";
       });
@@ -60,8 +61,9 @@ PYBIND11_MODULE(_chainmail, m) {
   py::register_exception<cm::SceneError>(m, "SceneError", PyExc_ValueError);
   py::register_exception<cm::UsageError>(m, "UsageError", PyExc_ValueError);
   m.attr("__version__") = cm::chainmail_version();
-  m.def("backends", [] { return cm::python::to_python(cm::backends_json()["backends"]); },
-        "every backend: name, built, summary and its knobs (type, default, min, max, help)");
+  m.def(
+      "backends", [] { return cm::python::to_python(cm::backends_json()["backends"]); },
+      "every backend: name, built, summary and its knobs (type, default, min, max, help)");
   cm::python::add_scene(m);
   cm::python::add_simulation(m);
   cm::python::add_commands(m);

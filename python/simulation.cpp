@@ -94,10 +94,10 @@ class Simulation {
 template <class Matrix>
 py::array_t<double> rows_view(const Matrix& m, py::handle owner) {
   const auto cols = static_cast<py::ssize_t>(m.rows());
-  py::array_t<double> view({static_cast<py::ssize_t>(m.cols()), cols},
-                           {static_cast<py::ssize_t>(sizeof(double)) * cols,
-                            static_cast<py::ssize_t>(sizeof(double))},
-                           m.data(), owner);
+  py::array_t<double> view(
+      {static_cast<py::ssize_t>(m.cols()), cols},
+      {static_cast<py::ssize_t>(sizeof(double)) * cols, static_cast<py::ssize_t>(sizeof(double))},
+      m.data(), owner);
   view.attr("setflags")(py::arg("write") = false);
   return view;
 }
@@ -121,7 +121,8 @@ py::array_t<std::uint8_t> render_frames(const std::vector<const Simulation*>& si
   {
     py::gil_scoped_release release;
     try {
-      image = render::Renderer::create(settings)->render(sims[0]->scene(), sims[0]->weave(), panels);
+      image =
+          render::Renderer::create(settings)->render(sims[0]->scene(), sims[0]->weave(), panels);
     } catch (const render::RenderError& e) {
       throw SceneError(std::string("render: ") + e.what());
     }
@@ -153,7 +154,9 @@ void add_simulation(py::module_& m) {
       .def_property_readonly("rings", [](const Simulation& s) { return s.frame().size(); })
       .def_property_readonly(
           "positions",
-          [](py::object self) { return rows_view(self.cast<const Simulation&>().frame().position, self); },
+          [](py::object self) {
+            return rows_view(self.cast<const Simulation&>().frame().position, self);
+          },
           "(N, 3) ring centres, m: a read-only view, updated by step()")
       .def_property_readonly(
           "orientations",
@@ -163,15 +166,16 @@ void add_simulation(py::module_& m) {
           "(N, 4) unit quaternions (w, x, y, z): a read-only view, updated by step()")
       .def_property_readonly(
           "velocities",
-          [](py::object self) { return rows_view(self.cast<const Simulation&>().frame().velocity, self); },
+          [](py::object self) {
+            return rows_view(self.cast<const Simulation&>().frame().velocity, self);
+          },
           "(N, 3) ring velocities, m/s: a read-only view, updated by step()");
 #if CHAINMAIL_HAVE_RENDER
   m.def(
       "render",
       [](const std::vector<const Simulation*>& sims, int width, int height,
-         const std::string& material, int samples) {
-        return render_frames(sims, width, height, material, samples);
-      },
+         const std::string& material,
+         int samples) { return render_frames(sims, width, height, material, samples); },
       py::arg("simulations"), py::arg("width") = 640, py::arg("height") = 360,
       py::arg("material") = "steel", py::arg("samples") = 4,
       "the simulations' current frames side by side through the renderer: (H, W * n, 3) uint8");

@@ -6,7 +6,7 @@
 # the script `chainmail sweep --slurm` writes, waits, and compares the gathered sweep with the
 # local one: every point's final hash and every error and verdict in sweep.csv must be equal.
 # Stops the daemons it started and removes the folder. Needs root (or sudo) for the packages and
-# the daemons; it is not part of ctest (docs/command-line.md#slurm).
+# the daemons; it is not part of ctest (docs/command-line.md, `chainmail sweep`).
 #   ./scripts/slurm-test.sh [BUILD_DIR]     (default build/release, already built)
 set -euo pipefail
 cd "$(dirname "$0")/.."

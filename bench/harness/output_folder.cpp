@@ -58,7 +58,8 @@ bool read_manifest(const std::string& folder, std::string& command,
 
 void write_manifest(const std::string& folder, const std::string& command,
                     const std::vector<std::string>& files) {
-  const json manifest = {{"chainmail", chainmail_version()}, {"command", command}, {"files", files}};
+  const json manifest = {
+      {"chainmail", chainmail_version()}, {"command", command}, {"files", files}};
   std::ofstream(fs::path(folder) / kManifestName) << manifest.dump(1) << "\n";
 }
 

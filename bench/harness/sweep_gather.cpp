@@ -62,10 +62,11 @@ void check_point(const SweepCommand& command, const SweepPlan& plan, size_t k) {
   sets.push_back(plan.jobs.reference_set);
   const json expected = scene_to_json(load_scene_file(command.scene_file, sets));
   std::string ran;
-  for (const auto& [name, entry] : summary["backends"].items()) ran += (ran.empty() ? "" : ",") + name;
+  for (const auto& [name, entry] : summary["backends"].items())
+    ran += (ran.empty() ? "" : ",") + name;
   if (ran != p.backend)
-    refuse(command.gather, "points/" + std::to_string(k) + " is from another sweep: it ran " +
-                               ran + ", this sweep's " + point_name(p, k) + " runs " + p.backend);
+    refuse(command.gather, "points/" + std::to_string(k) + " is from another sweep: it ran " + ran +
+                               ", this sweep's " + point_name(p, k) + " runs " + p.backend);
   if (const std::string key = first_difference(expected, summary["scene"]); !key.empty())
     refuse(command.gather, "points/" + std::to_string(k) +
                                " is from another sweep: its scene differs at '" + key +

@@ -56,8 +56,9 @@ void write_slurm_script(const SweepCommand& command, const SweepPlan& plan) {
   const std::string path = command.slurm;
   check_script_path(path);
   if (plan.jobs.cache.empty())
-    throw UsageError("--slurm: the points read the reference from the cache: give --cache DIR "
-                     "(a shared folder), not none");
+    throw UsageError(
+        "--slurm: the points read the reference from the cache: give --cache DIR "
+        "(a shared folder), not none");
   // every path absolute: the jobs run on other nodes, from other folders
   SweepJobs jobs = plan.jobs;
   jobs.scene_file = absolute(jobs.scene_file);
@@ -86,10 +87,12 @@ void write_slurm_script(const SweepCommand& command, const SweepPlan& plan) {
     << " --output=\"$logs/reference.log\" --wrap=" << shell_quote(reference) << ")\")\n"
     << "points=$(job_id \"$(sbatch --parsable --job-name=chainmail-points " << flags
     << " --array=0-" << plan.points.size() - 1
-    << " --kill-on-invalid-dep=yes --dependency=afterok:\"$reference\" --output=\"$logs/point-%a.log\" <<'POINTS'\n"
+    << " --kill-on-invalid-dep=yes --dependency=afterok:\"$reference\" "
+       "--output=\"$logs/point-%a.log\" <<'POINTS'\n"
     << array_body(plan, jobs, out) << "POINTS\n)\")\n"
     << "gather=$(job_id \"$(sbatch --parsable --job-name=chainmail-gather " << flags
-    << " --kill-on-invalid-dep=yes --dependency=afterany:\"$points\" --output=\"$logs/gather.log\" --wrap="
+    << " --kill-on-invalid-dep=yes --dependency=afterany:\"$points\" --output=\"$logs/gather.log\" "
+       "--wrap="
     << shell_quote(gather) << ")\")\n"
     << "echo \"reference $reference, points $points (" << plan.points.size()
     << " tasks), gather $gather\"\n";

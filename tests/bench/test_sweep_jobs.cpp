@@ -51,7 +51,10 @@ Strings without_timings(const std::string& csv) {
 class SweepJobs : public testing::Test {
  protected:
   void SetUp() override {
-    root = fs::temp_directory_path() / "chainmail_test_sweep_jobs";
+    // a folder per test: ctest runs them side by side
+    root = fs::temp_directory_path() /
+           ("chainmail_test_sweep_jobs_" +
+            std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(root);
     fs::create_directories(root);
     sweep.scene_file = CHAINMAIL_SOURCE_DIR "/bench/scenes/curtain.json";
