@@ -151,3 +151,15 @@ def test_render_returns_an_rgb_image(curtain):
         pytest.skip(f"no GL here: {error}")
     assert image.shape == (90, 320, 3) and image.dtype == np.uint8
     assert image.std() > 0  # something was drawn
+
+
+def test_the_drape_example_plots_a_comparison(tmp_path):
+    pytest.importorskip("matplotlib")
+    from conftest import SOURCE
+    out = tmp_path / "drape.png"
+    result = subprocess.run([sys.executable, os.path.join(SOURCE, "examples", "drape_comparison.py"),
+                             "--backends", "plausible,massspring", "--out", str(out)],
+                            capture_output=True, text=True, env=os.environ, timeout=300)
+    assert result.returncode == 0, result.stderr
+    assert "massspring vs plausible: RMS" in result.stdout
+    assert out.stat().st_size > 10000
