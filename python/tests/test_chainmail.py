@@ -140,6 +140,29 @@ def test_ctrl_c_interrupts_a_long_step_loop(curtain):
     assert word == "interrupted" and 0 < int(steps) < 10**9 and consistent == "True"
 
 
+def test_ctrl_c_stops_a_run_as_on_the_command_line(curtain, tmp_path):
+    script = textwrap.dedent(f"""
+        import os, chainmail
+        scene = chainmail.load_scene({curtain!r}, {{"duration": 100.0}})
+        print("running", flush=True)
+        try:
+            chainmail.run(scene, backends=["plausible"], reference="none", cache="none",
+                          out={str(tmp_path / "run")!r})
+        except KeyboardInterrupt:
+            print("interrupted", os.path.isfile({str(tmp_path / "run" / "summary.json")!r}))
+    """)
+    child = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True,
+                             env=os.environ)
+    assert child.stdout.readline().strip() == "running"
+    time.sleep(1.5)
+    child.send_signal(signal.SIGINT)
+    out, _ = child.communicate(timeout=60)
+    assert child.returncode == 0
+    assert out.split() == ["interrupted", "True"]  # what finished is written, then the exception
+    with open(tmp_path / "run" / "summary.json") as f:
+        assert json.load(f)["backends"]["plausible"]["verdict"] == "interrupted"
+
+
 def test_render_returns_an_rgb_image(curtain):
     if not hasattr(chainmail, "render"):
         pytest.skip("built without the renderer")
