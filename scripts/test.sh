@@ -4,6 +4,9 @@
 # Bullet and ODE off), where the tests and bench scenes that need them are skipped with a note.
 # The release build is then installed into a temporary prefix and used from there, by the
 # installed command and by a project of its own (scripts/install-test.sh).
+# With root (or sudo without a password) the release build also runs a sweep through a one-node
+# Slurm cluster on this machine against the same sweep run locally (scripts/slurm-test.sh, about a
+# minute and a half); CHAINMAIL_SLURM_TEST=0 leaves it out.
 # `./scripts/test.sh release` or `./scripts/test.sh minimal` runs one of them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,5 +17,12 @@ for preset in ${presets[*]}; do
   ctest --preset "$preset" -j"$(nproc)"
   if [ "$preset" = release ]; then
     ./scripts/install-test.sh build/release
+    if [ "${CHAINMAIL_SLURM_TEST:-1}" != 0 ]; then
+      if [ "$(id -u)" -eq 0 ] || sudo -n true 2>/dev/null; then
+        ./scripts/slurm-test.sh build/release
+      else
+        echo "test: no root or sudo: the Slurm sweep test is left out (scripts/slurm-test.sh)"
+      fi
+    fi
   fi
 done
