@@ -53,14 +53,27 @@ def sweep(scene, vary, backends=(), out=None, jobs=1, cache="", progress=False):
     """`chainmail sweep`: one run per point of the grid `vary` (["KEY=v1,v2", ...]).
 
     Writes the sweep folder (default results/<scene>/sweep) and returns
-    {"folder": path, "points": [one dict per row of sweep.csv]}.
+    {"folder": path, "points": [one dict per row of sweep.csv]}: numbers as float, true/false as
+    bool, an empty cell as None, anything else (backend, verdict) as the text.
     """
     if isinstance(vary, str):
         vary = [vary]
     folder = _chainmail._sweep(scene, list(vary), list(backends), out, jobs, cache, progress)
     with open(_os.path.join(folder, "sweep.csv"), newline="") as f:
-        points = list(_csv.DictReader(f))
+        points = [{key: _cell(value) for key, value in row.items()} for row in _csv.DictReader(f)]
     return {"folder": folder, "points": points}
+
+
+def _cell(text):
+    """A sweep.csv cell as the value it writes."""
+    if text == "":
+        return None
+    if text in ("true", "false"):
+        return text == "true"
+    try:
+        return float(text)
+    except ValueError:
+        return text
 
 
 __all__ = ["SceneError", "UsageError", "Scene", "Simulation", "backends", "load_scene", "run",

@@ -101,7 +101,8 @@ def test_sweep_returns_one_row_per_point(curtain, tmp_path):
                                            "reference": "plausible"})
     result = chainmail.sweep(scene, ["backends.{backend}.dt=0.004,0.002"], backends=["plausible"],
                              out=str(tmp_path / "sweep"), cache="none")
-    assert [p["backends.{backend}.dt"] for p in result["points"]] == ["0.004", "0.002"]
+    assert [p["backends.{backend}.dt"] for p in result["points"]] == [0.004, 0.002]
+    assert all(p["stable"] is True and p["error_m"] >= 0.0 for p in result["points"])
     assert all(p["verdict"] == "stable" for p in result["points"])
     assert os.path.isfile(os.path.join(result["folder"], "sweep.csv"))
 
