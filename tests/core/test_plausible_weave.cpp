@@ -14,6 +14,7 @@
 #include "core/constraints.hpp"
 #include "core/geometry.hpp"
 #include "core/link_length.hpp"
+#include "core/metrics.hpp"
 #include "core/orientation.hpp"
 #include "core/pin_paths.hpp"
 #include "core/plausible.hpp"
@@ -55,6 +56,25 @@ TEST(WeaveLimits, DiagonalsMeetWhereTheirToriTouch) {
   EXPECT_DOUBLE_EQ(paper.row, kFourInOneRowSpacing * kRing.inner_diameter());
   EXPECT_DOUBLE_EQ(paper.link, 2.0 * a);
   EXPECT_EQ(paper.row_max, std::numeric_limits<double>::infinity());
+}
+
+TEST(WeaveLimits, KnightPairsMeetWhereTheirToriTouch) {
+  // rings of adjacent rows a row and a half apart lean opposite ways: pushed together along their
+  // rest offset they touch at the limit (centre circles 2a apart) and interpenetrate inside it
+  const double a = kRing.wire_radius, c = kRing.centre_radius, inner = kRing.inner_diameter();
+  const Vec3 rest(1.5 * kFourInOneRowSpacing * inner, 0.0, kFourInOneRowAdvance * inner);
+  const double fitted = fitted_extended_swivel(kRing, 0.95 * inner);
+  for (const double angle : {0.35, 0.46, fitted}) {
+    SCOPED_TRACE(angle);
+    const double knight = four_in_one_limits(kRing, angle).knight;
+    EXPECT_LT(knight, rest.norm());  // the rest layout is clear
+    const Circle mine = ring_circle(Vec3::Zero(), lean(angle), c);
+    const Circle at = ring_circle(knight * rest.normalized(), lean(-angle), c);
+    const Circle inside = ring_circle((knight - 1e-6) * rest.normalized(), lean(-angle), c);
+    EXPECT_NEAR(circle_circle_distance(mine, at), 2.0 * a, 1e-8);
+    EXPECT_LT(circle_circle_distance(mine, inside), 2.0 * a);
+    EXPECT_FALSE(circles_linked(mine, at));
+  }
 }
 
 // a rhombus of four rings, the two of one row at +-row / 2 along X leaning +angle, the two of the
@@ -124,12 +144,12 @@ Scene loose_sheet(const json& pins = json::array()) {
                          "test");
 }
 
-// the smallest distance among the sheet's pairs (i, j)-(i + 1, j + dj), m
-double closest(const Weave& weave, const Positions& p, int dj) {
+// the smallest distance among the sheet's pairs (i, j)-(i + di, j + dj), m
+double closest(const Weave& weave, const Positions& p, int dj, int di = 1) {
   double best = std::numeric_limits<double>::infinity();
   for (int a = 0; a < weave.size(); ++a) {
     for (int b = 0; b < weave.size(); ++b) {
-      if (weave.grid[b][0] == weave.grid[a][0] + 1 && weave.grid[b][1] == weave.grid[a][1] + dj)
+      if (weave.grid[b][0] == weave.grid[a][0] + di && weave.grid[b][1] == weave.grid[a][1] + dj)
         best = std::min(best, (p.col(a) - p.col(b)).norm());
     }
   }
@@ -138,12 +158,14 @@ double closest(const Weave& weave, const Positions& p, int dj) {
 
 TEST(PlausibleWeave, SheetPushedTogetherInBothDirectionsStopsAtTheDerivedDistances) {
   // every ring is driven toward the sheet's centre along the row and along the column at once
-  // (the compression the paper assumes never happens): the rows close up until their rings stack
-  // at 2a / sin(lean), the columns until rings two rows apart meet rim to rim at 2(c + a)
+  // (the compression the paper assumes never happens): the columns close up until rings two rows
+  // apart meet rim to rim at 2(c + a); the rows until rings of adjacent rows a row and a half
+  // apart meet (the knight limit), before the rings of one row stack at 2a / sin(lean)
   const Scene scene = loose_sheet();
   const Weave weave = make_weave(scene.weave, scene.ring);
   const double a = scene.ring.wire_radius, c = scene.ring.centre_radius;
-  double row[2], column[2];  // closest (i + 1, j + 1) and (i + 1, j - 1), with and without limits
+  // closest (i + 1, j + 1), (i + 1, j - 1) and (i + 2, j + 1), with and without limits
+  double row[2], column[2], knight[2];
   for (const bool limits : {true, false}) {
     PlausibleSettings settings;
     settings.compression_limits = limits;
@@ -159,19 +181,47 @@ TEST(PlausibleWeave, SheetPushedTogetherInBothDirectionsStopsAtTheDerivedDistanc
     }
     row[limits] = closest(weave, sim.state().position, 1);
     column[limits] = closest(weave, sim.state().position, -1);
+    knight[limits] = std::min(closest(weave, sim.state().position, 1, 2),
+                              closest(weave, sim.state().position, 2, 1));
     if (limits) {
       // within 1 %: pressed every step, the sweeps end a little short of converged
       const double lean = sim.model().extended_swivel;
+      const double knight_limit = four_in_one_limits(scene.ring, lean).knight;
       std::printf("pushed sheet: rows close to %.3f mm (2a / sin(lean) %.3f), columns to %.3f mm "
-                  "(2(c + a) %.3f)\n",
-                  1e3 * row[1], 2e3 * a / std::sin(lean), 1e3 * column[1], 2e3 * (c + a));
-      EXPECT_NEAR(row[1], 2.0 * a / std::sin(lean), 0.01 * row[1]);
+                  "(2(c + a) %.3f), knight pairs to %.3f mm (limit %.3f)\n",
+                  1e3 * row[1], 2e3 * a / std::sin(lean), 1e3 * column[1], 2e3 * (c + a),
+                  1e3 * knight[1], 1e3 * knight_limit);
+      EXPECT_GT(row[1], 0.99 * 2.0 * a / std::sin(lean));
       EXPECT_NEAR(column[1], 2.0 * (c + a), 0.01 * column[1]);
+      EXPECT_NEAR(knight[1], knight_limit, 0.01 * knight[1]);
     }
   }
-  // the paper's rule lets both go far closer: only the non-neighbour minimum distance holds them
-  std::printf("paper's rule: rows %.3f mm, columns %.3f mm\n", 1e3 * row[0], 1e3 * column[0]);
+  // the paper's rule lets all go far closer: only the non-neighbour minimum distance holds them
+  std::printf("paper's rule: rows %.3f mm, columns %.3f mm, knight pairs %.3f mm\n",
+              1e3 * row[0], 1e3 * column[0], 1e3 * knight[0]);
   EXPECT_LT(column[0], 0.8 * column[1]);
+  EXPECT_LT(knight[0], 0.8 * knight[1]);
+}
+
+TEST(PlausibleWeave, CornerHungSheetKeepsItsLinks) {
+  // an 8 x 8 sheet hung from its two top corners for a second: every neighbour pair still links
+  // and no other pair does (the rows at the sides, pushed together by the sag, would otherwise
+  // let rings a row and a half apart pass through each other)
+  Scene scene = loose_sheet(json::array({{{"corner", "top_left"}}, {{"corner", "top_right"}}}));
+  scene.gravity = Vec3(0.0, -9.81, 0.0);
+  scene.weave.plane = SheetPlane::xy;
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  PlausibleSim sim;
+  sim.reset(scene, weave, PlausibleSettings{});
+  for (int s = 0; s < 250; ++s) sim.step(0.004);
+  RingFrame frame;
+  sim.frame(frame);
+  const Metrics m = measure(frame, weave, scene);
+  std::printf("corner-hung 8 x 8: %lld broken, %lld false links\n", m.broken_links,
+              m.false_links);
+  EXPECT_EQ(m.broken_links, 0);
+  EXPECT_EQ(m.false_links, 0);
+  EXPECT_LE(m.max_stretch, 1.0);
 }
 
 TEST(PinPaths, EveryRingIsPulledTowardItsPin) {
