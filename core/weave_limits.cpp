@@ -76,7 +76,10 @@ WeaveLimits four_in_one_limits(const RingGeometry& ring, double lean) {
   limits.row = closest_approach(ring, mine, mine, Vec3(along, 0.0, 0.0), false);
   limits.column = closest_approach(ring, mine, mine, Vec3(0.0, 0.0, 2.0 * advance), false);
   limits.row_max = widest_row(ring, lean, limits.column);
-  limits.knight = closest_approach(ring, mine, theirs, Vec3(1.5 * along, 0.0, advance), false);
+  // rings of adjacent rows a row and a half apart: whatever way they turn, circles of radius c
+  // whose centres are 2c apart cannot link (rigid rings, which turn out of each other's way, keep
+  // 1.2 to 1.3 ID in a corner-hung sheet; the tori of rings at the extended swivel touch at 1.31)
+  limits.knight = 2.0 * ring.centre_radius;
   return limits;
 }
 

@@ -2,10 +2,10 @@
 // (i +- 1, j), (i, j +- 1) can come nearly as close as the wire thickness, but two rings that share
 // two neighbours meet sooner: (i +- 1, j +- 1) sit side by side in one row and stack like leaning
 // coins, (i +- 1, j -+ 1) sit two rows apart in one column and meet rim to rim; (i +- 2, j +- 1),
-// (i +- 1, j +- 2) (signs alike) sit in adjacent rows a row and a half apart and meet when a row
-// is pushed together along itself. Those limits keep a sheet from folding up like lazy tongs,
-// which the neighbour distances alone allow: a rhombus of four links with sides at most L can have
-// one diagonal near 0 and the other near 2L.
+// (i +- 1, j +- 2) (signs alike) sit in adjacent rows a row and a half apart and would pass
+// through each other when a row is pushed together along itself. Those limits keep a sheet from
+// folding up like lazy tongs, which the neighbour distances alone allow: a rhombus of four links
+// with sides at most L can have one diagonal near 0 and the other near 2L.
 #pragma once
 
 #include <vector>
@@ -36,8 +36,9 @@ struct WeaveLimits {
   // direction (four_in_one_link_reach) while the column is at its closest; infinite where the
   // links have no reach
   double row_max = 0.0;
-  // closest (i +- 2, j +- 1), (i +- 1, j +- 2): rings of adjacent rows a row and a half apart,
-  // leaning opposite ways, that meet rim to rim when a row is pushed together along itself
+  // closest (i +- 2, j +- 1), (i +- 1, j +- 2) (signs alike): rings of adjacent rows a row and a
+  // half apart, which a row pushed together along itself brings toward each other; 2c, the
+  // closest two rings can come and not pass through each other whatever their orientations
   double knight = 0.0;
 };
 WeaveLimits four_in_one_limits(const RingGeometry& ring, double lean);
