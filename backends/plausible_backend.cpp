@@ -46,8 +46,9 @@ const KnobTable<PlausibleSettings>& plausible_knobs() {
     t.boolean("swivel_fit", &S::swivel_fit,
               "swivel at full extension fitted to the ring geometry (most neighbour clearance)");
     t.boolean("compression_limits", &S::compression_limits,
-              "4-in-1: neighbours and rings sharing two neighbours come no closer than the ring "
-              "geometry lets them (off: the paper's wire thickness between neighbours only)");
+              "4-in-1: neighbours, rings sharing two neighbours and rings a row and a half apart "
+              "come no closer than the ring geometry lets them (off: the paper's wire thickness "
+              "between neighbours only)");
     t.boolean("swivel_from_pins", &S::swivel_from_pins,
               "4-in-1: each ring swivels about the direction toward the pins it hangs from, "
               "propagated through the weave (off: one pattern for the whole sheet)");

@@ -59,8 +59,8 @@ struct PlausibleSettings {
   // when Gauss-Seidel sweeps alone would need O(rows^2) iterations. Off by default: the Newton
   // steps converge without it, and its one-sided moves bias the shape (a catenary sags 5 % less)
   bool shock_propagation = false;
-  // 4-in-1: how close neighbours, and rings that share two neighbours (i +- 1, j +- 1), can come,
-  // from the ring geometry (core/weave_limits), enforced in the sweeps; off: the paper's rule,
+  // 4-in-1: how close neighbours, rings that share two neighbours (i +- 1, j +- 1) and rings a row
+  // and a half apart (i +- 2, j +- 1), (i +- 1, j +- 2) can come, from the ring geometry (core/weave_limits), enforced in the sweeps; off: the paper's rule,
   // neighbours as close as the wire thickness and the sheet never compressed along both axes
   bool compression_limits = true;
   // 4-in-1: each ring's swivel hinge turns toward the pins it hangs from, the direction propagated
@@ -85,7 +85,8 @@ struct PlausibleModel {
   std::vector<EdgeConstraint> edges;    // (m) neighbour links
   double longest_link = 0.0;            // m, the largest max_length: the solver's length scale
   std::vector<EdgeConstraint> outward;  // edges reachable from a pin, a = nearer the pin, by depth
-  // rings that share two neighbours (4-in-1 with compression_limits), kept within their bounds
+  // rings that share two neighbours, and rings of adjacent rows a row and a half apart (4-in-1
+  // with compression_limits), kept within their bounds
   std::vector<EdgeConstraint> diagonals;
   PinPaths pin_paths;  // 4-in-1 with swivel_from_pins: the rings breadth-first from the pins
   std::vector<Collider> colliders;

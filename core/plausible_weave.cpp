@@ -18,6 +18,10 @@ double PlausibleSim::build_compression_limits() {
   for (const DiagonalPair& pair : diagonal_pairs(weave_, limits)) {
     model_.diagonals.push_back({pair.a, pair.b, pair.min, pair.max});
   }
+  // rings of adjacent rows a row and a half apart meet when a row is pushed together
+  for (const DiagonalPair& pair : knight_pairs(weave_, limits)) {
+    model_.diagonals.push_back({pair.a, pair.b, pair.min, pair.max});
+  }
   return std::max(paper, limits.link);
 }
 

@@ -76,7 +76,46 @@ WeaveLimits four_in_one_limits(const RingGeometry& ring, double lean) {
   limits.row = closest_approach(ring, mine, mine, Vec3(along, 0.0, 0.0), false);
   limits.column = closest_approach(ring, mine, mine, Vec3(0.0, 0.0, 2.0 * advance), false);
   limits.row_max = widest_row(ring, lean, limits.column);
+  // rings of adjacent rows a row and a half apart: whatever way they turn, circles of radius c
+  // whose centres are 2c apart cannot link (rigid rings, which turn out of each other's way, keep
+  // 1.2 to 1.3 ID in a corner-hung sheet; the tori of rings at the extended swivel touch at 1.31)
+  limits.knight = 2.0 * ring.centre_radius;
   return limits;
+}
+
+namespace {
+
+// (i, j) -> ring over a weave's grid, -1 outside it or where no ring is
+struct GridIndex {
+  int rows_i = 0, cols_j = 0;
+  std::vector<int> index;
+  explicit GridIndex(const Weave& weave) {
+    for (const auto& g : weave.grid) {
+      rows_i = std::max(rows_i, g[0] + 1);
+      cols_j = std::max(cols_j, g[1] + 1);
+    }
+    index.assign(static_cast<size_t>(rows_i) * cols_j, -1);
+    for (int k = 0; k < weave.size(); ++k) index[weave.grid[k][0] * cols_j + weave.grid[k][1]] = k;
+  }
+  int at(int i, int j) const {
+    return i < 0 || j < 0 || i >= rows_i || j >= cols_j ? -1 : index[i * cols_j + j];
+  }
+};
+
+}  // namespace
+
+std::vector<DiagonalPair> knight_pairs(const Weave& weave, const WeaveLimits& limits) {
+  std::vector<DiagonalPair> pairs;
+  if (weave.type != WeaveType::four_in_one) return pairs;
+  const GridIndex grid(weave);
+  const double far = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < weave.size(); ++k) {
+    const auto [i, j] = weave.grid[k];
+    for (const int other : {grid.at(i + 2, j + 1), grid.at(i + 1, j + 2)}) {
+      if (other >= 0) pairs.push_back({std::min(k, other), std::max(k, other), limits.knight, far});
+    }
+  }
+  return pairs;
 }
 
 std::vector<DiagonalPair> diagonal_pairs(const Weave& weave, const WeaveLimits& limits) {

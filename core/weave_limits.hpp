@@ -1,9 +1,11 @@
 // How close the rings of a 4-in-1 sheet can come, from the ring geometry. A linked neighbour
 // (i +- 1, j), (i, j +- 1) can come nearly as close as the wire thickness, but two rings that share
 // two neighbours meet sooner: (i +- 1, j +- 1) sit side by side in one row and stack like leaning
-// coins, (i +- 1, j -+ 1) sit two rows apart in one column and meet rim to rim. Those diagonal
-// limits keep a sheet from folding up like lazy tongs, which the neighbour distances alone allow:
-// a rhombus of four links with sides at most L can have one diagonal near 0 and the other near 2L.
+// coins, (i +- 1, j -+ 1) sit two rows apart in one column and meet rim to rim; (i +- 2, j +- 1),
+// (i +- 1, j +- 2) (signs alike) sit in adjacent rows a row and a half apart and would pass
+// through each other when a row is pushed together along itself. Those limits keep a sheet from
+// folding up like lazy tongs, which the neighbour distances alone allow: a rhombus of four links
+// with sides at most L can have one diagonal near 0 and the other near 2L.
 #pragma once
 
 #include <vector>
@@ -34,6 +36,10 @@ struct WeaveLimits {
   // direction (four_in_one_link_reach) while the column is at its closest; infinite where the
   // links have no reach
   double row_max = 0.0;
+  // closest (i +- 2, j +- 1), (i +- 1, j +- 2) (signs alike): rings of adjacent rows a row and a
+  // half apart, which a row pushed together along itself brings toward each other; 2c, the
+  // closest two rings can come and not pass through each other whatever their orientations
+  double knight = 0.0;
 };
 WeaveLimits four_in_one_limits(const RingGeometry& ring, double lean);
 
@@ -44,5 +50,8 @@ struct DiagonalPair {
 };
 // every (i, j)-(i + 1, j + 1) and (i, j)-(i + 1, j - 1) pair of a 4-in-1 weave (none otherwise)
 std::vector<DiagonalPair> diagonal_pairs(const Weave& weave, const WeaveLimits& limits);
+// every (i, j)-(i + 2, j + 1) and (i, j)-(i + 1, j + 2) pair of a 4-in-1 weave, kept at least
+// limits.knight apart (none otherwise)
+std::vector<DiagonalPair> knight_pairs(const Weave& weave, const WeaveLimits& limits);
 
 }  // namespace chainmail

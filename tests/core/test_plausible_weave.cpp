@@ -14,6 +14,7 @@
 #include "core/constraints.hpp"
 #include "core/geometry.hpp"
 #include "core/link_length.hpp"
+#include "core/metrics.hpp"
 #include "core/orientation.hpp"
 #include "core/pin_paths.hpp"
 #include "core/plausible.hpp"
@@ -55,6 +56,30 @@ TEST(WeaveLimits, DiagonalsMeetWhereTheirToriTouch) {
   EXPECT_DOUBLE_EQ(paper.row, kFourInOneRowSpacing * kRing.inner_diameter());
   EXPECT_DOUBLE_EQ(paper.link, 2.0 * a);
   EXPECT_EQ(paper.row_max, std::numeric_limits<double>::infinity());
+}
+
+TEST(WeaveLimits, KnightPairsStopWhereRingsCouldPassThroughEachOther) {
+  // rings of adjacent rows a row and a half apart are kept 2c apart: beyond it no two rings link,
+  // however they turn; just inside it two rings whose planes both hold the line between their
+  // centres do (the far rim of each reaches into the other's disk)
+  const double c = kRing.centre_radius, inner = kRing.inner_diameter();
+  const Vec3 rest(1.5 * kFourInOneRowSpacing * inner, 0.0, kFourInOneRowAdvance * inner);
+  const WeaveLimits limits = four_in_one_limits(kRing, 0.46);
+  EXPECT_DOUBLE_EQ(limits.knight, 2.0 * c);
+  EXPECT_LT(limits.knight, rest.norm());  // the rest layout is clear of it
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal;
+  auto random_axis = [&] { return Vec3(normal(rng), normal(rng), normal(rng)).normalized(); };
+  for (int k = 0; k < 20000; ++k) {
+    const Vec3 u = random_axis();
+    const Circle first{Vec3::Zero(), random_axis(), c};
+    const Circle second{limits.knight * (1.0 + 1e-9) * u, random_axis(), c};
+    ASSERT_FALSE(circles_linked(first, second)) << "pair " << k;
+  }
+  const Vec3 u = rest.normalized();
+  const Circle first{Vec3::Zero(), u.cross(Vec3::UnitY()).normalized(), c};
+  const Circle second{0.999 * limits.knight * u, Vec3::UnitY(), c};
+  EXPECT_TRUE(circles_linked(first, second));
 }
 
 // a rhombus of four rings, the two of one row at +-row / 2 along X leaning +angle, the two of the
@@ -124,12 +149,12 @@ Scene loose_sheet(const json& pins = json::array()) {
                          "test");
 }
 
-// the smallest distance among the sheet's pairs (i, j)-(i + 1, j + dj), m
-double closest(const Weave& weave, const Positions& p, int dj) {
+// the smallest distance among the sheet's pairs (i, j)-(i + di, j + dj), m
+double closest(const Weave& weave, const Positions& p, int dj, int di = 1) {
   double best = std::numeric_limits<double>::infinity();
   for (int a = 0; a < weave.size(); ++a) {
     for (int b = 0; b < weave.size(); ++b) {
-      if (weave.grid[b][0] == weave.grid[a][0] + 1 && weave.grid[b][1] == weave.grid[a][1] + dj)
+      if (weave.grid[b][0] == weave.grid[a][0] + di && weave.grid[b][1] == weave.grid[a][1] + dj)
         best = std::min(best, (p.col(a) - p.col(b)).norm());
     }
   }
@@ -138,12 +163,14 @@ double closest(const Weave& weave, const Positions& p, int dj) {
 
 TEST(PlausibleWeave, SheetPushedTogetherInBothDirectionsStopsAtTheDerivedDistances) {
   // every ring is driven toward the sheet's centre along the row and along the column at once
-  // (the compression the paper assumes never happens): the rows close up until their rings stack
-  // at 2a / sin(lean), the columns until rings two rows apart meet rim to rim at 2(c + a)
+  // (the compression the paper assumes never happens): the columns close up until rings two rows
+  // apart meet rim to rim at 2(c + a); the rows until rings of adjacent rows a row and a half
+  // apart are 2c apart, before the rings of one row stack at 2a / sin(lean)
   const Scene scene = loose_sheet();
   const Weave weave = make_weave(scene.weave, scene.ring);
   const double a = scene.ring.wire_radius, c = scene.ring.centre_radius;
-  double row[2], column[2];  // closest (i + 1, j + 1) and (i + 1, j - 1), with and without limits
+  // closest (i + 1, j + 1), (i + 1, j - 1) and (i + 2, j + 1), with and without limits
+  double row[2], column[2], knight[2];
   for (const bool limits : {true, false}) {
     PlausibleSettings settings;
     settings.compression_limits = limits;
@@ -159,19 +186,56 @@ TEST(PlausibleWeave, SheetPushedTogetherInBothDirectionsStopsAtTheDerivedDistanc
     }
     row[limits] = closest(weave, sim.state().position, 1);
     column[limits] = closest(weave, sim.state().position, -1);
+    knight[limits] = std::min(closest(weave, sim.state().position, 1, 2),
+                              closest(weave, sim.state().position, 2, 1));
     if (limits) {
       // within 1 %: pressed every step, the sweeps end a little short of converged
       const double lean = sim.model().extended_swivel;
       std::printf("pushed sheet: rows close to %.3f mm (2a / sin(lean) %.3f), columns to %.3f mm "
-                  "(2(c + a) %.3f)\n",
-                  1e3 * row[1], 2e3 * a / std::sin(lean), 1e3 * column[1], 2e3 * (c + a));
-      EXPECT_NEAR(row[1], 2.0 * a / std::sin(lean), 0.01 * row[1]);
+                  "(2(c + a) %.3f), pairs a row and a half apart to %.3f mm (2c %.3f)\n",
+                  1e3 * row[1], 2e3 * a / std::sin(lean), 1e3 * column[1], 2e3 * (c + a),
+                  1e3 * knight[1], 2e3 * c);
+      EXPECT_GT(row[1], 0.99 * 2.0 * a / std::sin(lean));
       EXPECT_NEAR(column[1], 2.0 * (c + a), 0.01 * column[1]);
+      EXPECT_NEAR(knight[1], 2.0 * c, 0.01 * knight[1]);
     }
   }
-  // the paper's rule lets both go far closer: only the non-neighbour minimum distance holds them
-  std::printf("paper's rule: rows %.3f mm, columns %.3f mm\n", 1e3 * row[0], 1e3 * column[0]);
+  // the paper's rule lets all go far closer: only the non-neighbour minimum distance holds them
+  std::printf("paper's rule: rows %.3f mm, columns %.3f mm, a row and a half %.3f mm\n",
+              1e3 * row[0], 1e3 * column[0], 1e3 * knight[0]);
   EXPECT_LT(column[0], 0.8 * column[1]);
+  EXPECT_LT(knight[0], 0.8 * knight[1]);
+}
+
+TEST(PlausibleWeave, CornerHungSheetKeepsItsLinks) {
+  // an 8 x 8 sheet hung from its two top corners for a second: every neighbour pair still links,
+  // and no rings a row and a half apart link, though the sag pushes the sides together along the
+  // rows (the stacked rings of one row, turned toward different pins, may still cross: counted)
+  Scene scene = loose_sheet(json::array({{{"corner", "top_left"}}, {{"corner", "top_right"}}}));
+  scene.gravity = Vec3(0.0, -9.81, 0.0);
+  scene.weave.plane = SheetPlane::xy;
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  PlausibleSim sim;
+  sim.reset(scene, weave, PlausibleSettings{});
+  for (int s = 0; s < 250; ++s) sim.step(0.004);
+  RingFrame frame;
+  sim.frame(frame);
+  const Metrics m = measure(frame, weave, scene);
+  int knights_linked = 0;
+  const double c = scene.ring.centre_radius;
+  for (int a = 0; a < weave.size(); ++a) {
+    for (int b = 0; b < weave.size(); ++b) {
+      const int di = weave.grid[b][0] - weave.grid[a][0], dj = weave.grid[b][1] - weave.grid[a][1];
+      if (!((di == 2 && dj == 1) || (di == 1 && dj == 2))) continue;
+      knights_linked += circles_linked(ring_circle(frame.position.col(a), frame.quat(a), c),
+                                       ring_circle(frame.position.col(b), frame.quat(b), c));
+    }
+  }
+  std::printf("corner-hung 8 x 8: %lld broken, %lld false links (%d a row and a half apart)\n",
+              m.broken_links, m.false_links, knights_linked);
+  EXPECT_EQ(m.broken_links, 0);
+  EXPECT_EQ(knights_linked, 0);
+  EXPECT_LE(m.max_stretch, 1.0);
 }
 
 TEST(PinPaths, EveryRingIsPulledTowardItsPin) {
