@@ -48,8 +48,9 @@ struct BackendInfo {
 };
 
 // Which backends exist and which this binary has. The project has a fixed set of backends
-// (known_backend_names(): plausible, massspring, bullet, ode); the optional ones (bullet, ode)
-// are built only when the build finds their libraries (CHAINMAIL_WITH_BULLET, CHAINMAIL_WITH_ODE).
+// (known_backend_names(): plausible, massspring, bullet, ode, torus_xpbd); the optional ones
+// (bullet, ode) are built only when the build finds their libraries (CHAINMAIL_WITH_BULLET,
+// CHAINMAIL_WITH_ODE).
 // A name that is known but not built is valid input that this binary cannot run; a name that is
 // not known is bad input.
 

@@ -43,7 +43,8 @@ Scene scene_with(const json& backends, const std::string& reference = "plausible
 
 TEST(Registry, KnowsEveryBackendAndHasTheBuiltOnesInTheSameOrder) {
   const std::vector<std::string>& known = known_backend_names();
-  EXPECT_EQ(known, (std::vector<std::string>{"plausible", "massspring", "bullet", "ode"}));
+  EXPECT_EQ(known, (std::vector<std::string>{"plausible", "massspring", "bullet", "ode",
+                                             "torus_xpbd"}));
   auto next = known.begin();
   for (const BackendInfo& info : backend_registry()) {
     next = std::find(next, known.end(), info.name);
@@ -55,6 +56,7 @@ TEST(Registry, KnowsEveryBackendAndHasTheBuiltOnesInTheSameOrder) {
   // the build options decide the optional ones; the others are always there
   EXPECT_TRUE(backend_built("plausible"));
   EXPECT_TRUE(backend_built("massspring"));
+  EXPECT_TRUE(backend_built("torus_xpbd"));
   EXPECT_EQ(backend_built("bullet"), kBulletBuilt);
   EXPECT_EQ(backend_built("ode"), kOdeBuilt);
   for (const std::string& name : known) EXPECT_TRUE(backend_known(name)) << name;
@@ -70,7 +72,7 @@ TEST(Registry, RefusesAnUnknownBackendNamingEveryKnownOne) {
   } catch (const SceneError& error) {
     EXPECT_STREQ(error.what(),
                  "scene.json: key 'backends.havok': unknown backend (known: plausible, "
-                 "massspring, bullet, ode)");
+                 "massspring, bullet, ode, torus_xpbd)");
   }
   try {
     validate_backend_knobs(scene_with(json::object(), "havok"));

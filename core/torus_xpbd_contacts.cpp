@@ -1,0 +1,263 @@
+// The rigid-torus XPBD model: seeds, the contact solve (ring against ring, ring against
+// collider), and the velocity pass.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/circle_contact.hpp"
+#include "core/colliders.hpp"
+#include "core/torus_colliders.hpp"
+#include "core/torus_xpbd.hpp"
+
+namespace chainmail {
+namespace {
+
+// a seed's angle may move this far (cos of 0.5 rad) in a substep and still follow one minimum
+constexpr double kSameMinimum = 0.8775825618903728;
+// a sampled minimum within a sample spacing (cos of pi / 16) of a seed, and not below the seed's
+// own distance, is the seed's; any other is refined, and kept unless it finds a seed's minimum
+constexpr double kCovered = 0.9807852804032304;
+// two seeds closer than this (cos of 1e-3 rad) have found the same minimum
+constexpr double kDuplicate = 0.9999995;
+// ring-ring corrections are over-relaxed: one Gauss-Seidel pass a substep leaves a hanging sheet's
+// contacts short by a share of the weight below them, and 1.3 takes a third of that off (rigid
+// contacts overshoot into a gap, never into each other)
+constexpr double kOverRelaxation = 1.3;
+// the motion the contact solve may add to a pair's in a substep, in wire radii
+constexpr double kSolveMotion = 0.02;
+// a scan (every few substeps) seeds the minima that may touch within this many substeps' motion
+constexpr double kScanReach = 4.0;
+// Newton steps from a seed's last angle: one when it was solved in the last substep (the pair
+// moved little since), more when it rested a few substeps
+constexpr int kSubstepNewton = 1;
+constexpr int kResumeNewton = 3;
+// the eight points of a ring's centre circle that rest on colliders, (cos, sin) of k pi / 4
+constexpr double kRootHalf = 0.7071067811865476;
+constexpr double kSupport[8][2] = {{1, 0},  {kRootHalf, kRootHalf},   {0, 1},  {-kRootHalf, kRootHalf},
+                                   {-1, 0}, {-kRootHalf, -kRootHalf}, {0, -1}, {kRootHalf, -kRootHalf}};
+
+double angle_cos(const PairSeed& seed, double c, double s) {
+  return seed.cos_t * c + seed.sin_t * s;
+}
+
+}  // namespace
+
+void TorusXpbdSim::solve_pairs(std::vector<RingPairContact>& pairs, double h, bool scan) {
+  for (RingPairContact& pair : pairs) solve_pair(pair, h, scan);
+}
+
+
+// one pair in one substep: new minima that could touch before the next scan are seeded (when
+// `scan`); then each seed that may touch in this substep is followed from its last angle (on the
+// pose the pair has then: the seeds before it may have pushed), and one closer than two wire
+// radii pushes the rings apart. A seed that cannot touch yet is not solved: its lower bound only
+// shrinks by the substep's motion, so it is solved again before it could touch.
+void TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan) {
+  const double a = model_.ring.wire_radius, c = model_.ring.centre_radius;
+  // m, how much nearer the pair can come in a substep: its rings' own motion, and a margin for
+  // what the contact solve moves them
+  const double reach = travel_[pair.a] + travel_[pair.b] + kSolveMotion * a;
+  const double touch = 2.0 * a + reach;  // m, a seed whose bound is above cannot touch now
+  if (!scan) {
+    bool near = false;
+    for (int k = 0; k < pair.seeds && !near; ++k) near = pair.seed[k].bound <= touch;
+    if (!near) {
+      for (int k = 0; k < pair.seeds; ++k) pair.seed[k].bound -= reach, pair.seed[k].recent = false;
+      return;
+    }
+  }
+  CircleFrame fa = circle_of(pair.a), fb = circle_of(pair.b);
+  if (scan) find_new_minima(pair, CirclePairDistance(fa, fb), 2.0 * a + kScanReach * reach);
+  bool stale = false;
+  int kept = 0;
+  for (int k = 0; k < pair.seeds; ++k) {
+    PairSeed seed = pair.seed[k];
+    if (seed.bound > touch) {
+      seed.bound -= reach, seed.recent = false;
+      pair.seed[kept++] = seed;
+      continue;
+    }
+    if (stale) {
+      fa = circle_of(pair.a), fb = circle_of(pair.b);
+      stale = false;
+    }
+    const ClosestPoints p = CirclePairDistance(fa, fb).refine(
+        seed.cos_t, seed.sin_t, seed.recent ? kSubstepNewton : kResumeNewton, 1e-10);
+    // the side is the seed's while it follows one minimum: circles that crossed within the
+    // substep (wires pushed through each other) have their gap reversed, a negative distance
+    const bool same = angle_cos(seed, p.cos_t, p.sin_t) > kSameMinimum;
+    double distance = p.distance;
+    if (p.distance > 1e-12 * c) {
+      const Vec3 normal = (p.first - p.second) / p.distance;
+      if (same && normal.dot(seed.normal) < 0.0) {
+        seed.normal = -normal, distance = -distance;
+      } else {
+        seed.normal = normal;
+      }
+    }
+    seed.cos_t = p.cos_t, seed.sin_t = p.sin_t;
+    seed.bound = p.distance, seed.recent = true;
+    // a seed that found an earlier one's minimum, or drifted far off, is dropped
+    bool keep = distance < 4.0 * a;
+    for (int j = 0; j < kept && keep; ++j)
+      keep = angle_cos(pair.seed[j], seed.cos_t, seed.sin_t) < kDuplicate;
+    if (!keep) continue;
+    pair.seed[kept++] = seed;
+    const double depth = 2.0 * a - distance;
+    if (depth > 0.0) {
+      apply_contact(pair.a, pair.b, seed.normal, 0.5 * (p.first + p.second), depth,
+                    model_.ring_friction, h);
+      stale = true;
+    }
+  }
+  pair.seeds = kept;
+}
+
+// the sampled local minima of the pair's distance that no seed follows and that may come closer
+// than `limit` (m): refined and seeded, up to three seeds a pair (one that turns out farther is
+// still kept, so that the next scans know it; a full pair gives up its farthest seed for a
+// nearer minimum). A sample is a seed's when the seed is within a sample spacing of it and the
+// sample is no nearer than the seed's bound.
+void TorusXpbdSim::find_new_minima(RingPairContact& pair, const CirclePairDistance& distance,
+                                   double limit) {
+  // the distance moves at most r per radian along the circle: half a sample spacing may hide this
+  constexpr int kSamples = CirclePairDistance::kSamples;
+  const double hidden = model_.ring.centre_radius * std::numbers::pi / kSamples;
+  const double reach2 = (limit + hidden) * (limit + hidden);
+  double f[kSamples];
+  distance.sample(f);
+  if (*std::min_element(f, f + kSamples) > reach2) return;
+  const auto& angle = CirclePairDistance::samples();
+  for (int k = 0; k < kSamples; ++k) {
+    if (f[k] > reach2 || f[k] > f[(k + kSamples - 1) % kSamples] ||
+        f[k] >= f[(k + 1) % kSamples])
+      continue;
+    bool covered = false;
+    for (int j = 0; j < pair.seeds && !covered; ++j) {
+      covered = angle_cos(pair.seed[j], angle.c[k], angle.s[k]) > kCovered &&
+                f[k] >= pair.seed[j].bound * pair.seed[j].bound;
+    }
+    if (covered) continue;
+    const ClosestPoints p = distance.refine(angle.c[k], angle.s[k], 8, 1e-9);
+    for (int j = 0; j < pair.seeds && !covered; ++j)
+      covered = angle_cos(pair.seed[j], p.cos_t, p.sin_t) > kDuplicate;
+    if (covered) continue;
+    int slot = pair.seeds;
+    if (slot < static_cast<int>(pair.seed.size())) {
+      ++pair.seeds;
+    } else {
+      // full: the farthest seed, if this minimum is nearer
+      slot = 0;
+      for (int j = 1; j < pair.seeds; ++j)
+        if (pair.seed[j].bound > pair.seed[slot].bound) slot = j;
+      if (pair.seed[slot].bound <= p.distance) continue;
+    }
+    PairSeed& seed = pair.seed[slot];
+    seed.cos_t = p.cos_t, seed.sin_t = p.sin_t;
+    seed.bound = p.distance, seed.recent = true;
+    seed.normal = p.distance > 1e-12 * model_.ring.centre_radius
+                      ? Vec3((p.first - p.second) / p.distance)
+                      : Vec3((state_.position[pair.a] - state_.position[pair.b]).normalized());
+  }
+}
+
+// each ring near a collider: the torus's deepest point, then eight points of its centre circle
+// (a ring lying flat rests on all of them)
+void TorusXpbdSim::solve_colliders(double h) {
+  auto scope = profile_.scope("colliders");
+  const double a = model_.ring.wire_radius, c = model_.ring.centre_radius;
+  for (const ColliderCandidate& candidate : collider_candidates_) {
+    const int i = candidate.ring;
+    const Collider& collider = model_.colliders[candidate.collider];
+    const double friction = model_.collider_friction[candidate.collider];
+    const CirclePointContact deepest =
+        deepest_circle_point(collider, circle_of(i));
+    if (deepest.distance < a) {
+      apply_contact(i, -1, deepest.normal, deepest.point - a * deepest.normal,
+                    a - deepest.distance, friction, h);
+      touching_[i] = 1;
+    }
+    for (const auto& angle : kSupport) {
+      const Vec3 point = state_.position[i] +
+                         c * (angle[0] * rotation_[i].col(0) + angle[1] * rotation_[i].col(2));
+      Vec3 normal;
+      const double distance = collider_distance(collider, point, normal);
+      if (distance < a) apply_contact(i, -1, normal, point - a * normal, a - distance, friction, h);
+    }
+  }
+}
+
+// one contact's positional correction along `normal` (pushing a; b = -1: a static collider),
+// depth m at `point`, with static friction: the contact point's slip over the substep is undone
+// with it when that takes less than friction times the normal multiplier. One correction of each
+// ring carries both.
+void TorusXpbdSim::apply_contact(int a, int b, const Vec3& normal, const Vec3& point, double depth,
+                                 double friction, double h) {
+  const bool ring_b = b >= 0;
+  const Vec3 arm_a = point - state_.position[a];
+  const Vec3 arm_b = ring_b ? Vec3(point - state_.position[b]) : Vec3::Zero();
+  const double w = generalized_inverse_mass(a, arm_a, normal) +
+                   (ring_b ? generalized_inverse_mass(b, arm_b, normal) : 0.0);
+  if (w <= 0.0) return;
+  const double stiffness_term = model_.settings.compliance / (h * h);
+  const double lambda = (ring_b ? kOverRelaxation : 1.0) * depth / (w + stiffness_term);
+  Vec3 correction = lambda * normal;  // kg m, on a (b takes the opposite)
+  bool stuck = false;
+
+  if (friction > 0.0) {
+    // where the contact point was at the substep's start, on each ring
+    Vec3 slip = point - state_.previous_position[a] -
+                previous_rotation_[a] * (rotation_[a].transpose() * arm_a);
+    if (ring_b) {
+      slip -= point - state_.previous_position[b] -
+              previous_rotation_[b] * (rotation_[b].transpose() * arm_b);
+    }
+    slip -= slip.dot(normal) * normal;
+    const double length = slip.norm();
+    if (length > 0.0) {
+      const Vec3 tangent = slip / length;
+      const double wt = generalized_inverse_mass(a, arm_a, tangent) +
+                        (ring_b ? generalized_inverse_mass(b, arm_b, tangent) : 0.0);
+      const double lambda_t = length / (wt + stiffness_term);
+      if (wt > 0.0 && lambda_t < friction * lambda) correction -= lambda_t * tangent, stuck = true;
+    }
+  }
+  Vec3 relative = point_velocity(a, arm_a);
+  if (ring_b) relative -= point_velocity(b, arm_b);
+  // a contact that static friction held does not slide: no dynamic friction for it
+  active_.push_back(
+      {a, b, normal, arm_a, arm_b, lambda, w, normal.dot(relative), stuck ? 0.0 : friction});
+  apply_correction(a, arm_a, correction);
+  if (ring_b) apply_correction(b, arm_b, -correction);
+}
+
+// restitution and dynamic friction on the velocities the substep produced, at every contact that
+// pushed in it: one impulse, whose normal part leaves e times the approach speed (0 for resting
+// contact) and whose tangential part takes from the sliding speed at most friction times the
+// normal impulse lambda / h, each part through the inverse mass along its own direction
+void TorusXpbdSim::velocity_pass(double h) {
+  auto scope = profile_.scope("velocity_pass");
+  const double resting = 2.0 * model_.gravity.norm() * h;  // m/s, slower contacts do not bounce
+  for (const ActiveContact& contact : active_) {
+    const bool ring_b = contact.b >= 0;
+    Vec3 relative = point_velocity(contact.a, contact.arm_a);
+    if (ring_b) relative -= point_velocity(contact.b, contact.arm_b);
+    const Vec3& n = contact.normal;
+    const double normal_speed = n.dot(relative);
+    const double e = std::abs(normal_speed) <= resting ? 0.0 : model_.settings.restitution;
+    Vec3 impulse = ((std::max(-e * contact.approach, 0.0) - normal_speed) / contact.w) * n;
+    const Vec3 sliding = relative - normal_speed * n;
+    const double slide = sliding.norm();
+    if (contact.friction > 0.0 && slide > 0.0) {
+      const Vec3 tangent = sliding / slide;
+      const double wt =
+          generalized_inverse_mass(contact.a, contact.arm_a, tangent) +
+          (ring_b ? generalized_inverse_mass(contact.b, contact.arm_b, tangent) : 0.0);
+      impulse -= std::min(contact.friction * contact.lambda / h, slide / wt) * tangent;
+    }
+    apply_impulse(contact.a, contact.arm_a, impulse);
+    if (ring_b) apply_impulse(contact.b, contact.arm_b, -impulse);
+  }
+}
+
+}  // namespace chainmail
