@@ -138,6 +138,7 @@ class TorusXpbdSim {
   void solve_colliders(double h);
   void apply_contact(int a, int b, const Vec3& normal, const Vec3& point, double depth,
                      double friction, double h);
+  void merge_contacts(std::size_t first, double h);
   void velocity_pass(double h);
   // rigid-body helpers
   Vec3 inverse_inertia_times(int ring, const Vec3& v) const;

@@ -170,8 +170,8 @@ void TorusXpbdSim::solve_colliders(double h) {
     const int i = candidate.ring;
     const Collider& collider = model_.colliders[candidate.collider];
     const double friction = model_.collider_friction[candidate.collider];
-    const CirclePointContact deepest =
-        deepest_circle_point(collider, circle_of(i));
+    const std::size_t first = active_.size();
+    const CirclePointContact deepest = deepest_circle_point(collider, circle_of(i));
     if (deepest.distance < a) {
       apply_contact(i, -1, deepest.normal, deepest.point - a * deepest.normal,
                     a - deepest.distance, friction, h);
@@ -184,7 +184,35 @@ void TorusXpbdSim::solve_colliders(double h) {
       const double distance = collider_distance(collider, point, normal);
       if (distance < a) apply_contact(i, -1, normal, point - a * normal, a - distance, friction, h);
     }
+    merge_contacts(first, h);
   }
+}
+
+// the contacts of one ring with one collider since `first` become one for the velocity pass, at
+// their multiplier-weighted mean point and normal: one ring bounces off one surface once (points
+// bounced one after the other would each spin it, and a flat ring would leap)
+void TorusXpbdSim::merge_contacts(std::size_t first, double h) {
+  if (active_.size() <= first + 1) return;
+  ActiveContact merged = active_[first];
+  Vec3 arm = Vec3::Zero(), normal = Vec3::Zero();
+  double lambda = 0.0, friction = 0.0;
+  for (std::size_t k = first; k < active_.size(); ++k) {
+    const ActiveContact& contact = active_[k];
+    arm += contact.lambda * contact.arm_a;
+    normal += contact.lambda * contact.normal;
+    lambda += contact.lambda;
+    friction = std::max(friction, contact.friction);
+  }
+  if (lambda <= 0.0 || normal.squaredNorm() == 0.0) return;
+  merged.arm_a = arm / lambda;
+  merged.normal = normal.normalized();
+  merged.lambda = lambda;
+  merged.friction = friction;
+  merged.w = generalized_inverse_mass(merged.a, merged.arm_a, merged.normal);
+  merged.approach =
+      merged.normal.dot(point_velocity(merged.a, merged.arm_a) - h * model_.gravity);
+  active_.resize(first);
+  if (merged.w > 0.0) active_.push_back(merged);
 }
 
 // one contact's positional correction along `normal` (pushing a; b = -1: a static collider),
@@ -222,8 +250,11 @@ void TorusXpbdSim::apply_contact(int a, int b, const Vec3& normal, const Vec3& p
       if (wt > 0.0 && lambda_t < friction * lambda) correction -= lambda_t * tangent, stuck = true;
     }
   }
+  // the approach speed at the substep's start, before gravity's pull in it (against a collider;
+  // between rings it cancels): a bounce returns no more than the speed the contact met
   Vec3 relative = point_velocity(a, arm_a);
   if (ring_b) relative -= point_velocity(b, arm_b);
+  if (!ring_b) relative -= h * model_.gravity;
   // a contact that static friction held does not slide: no dynamic friction for it
   active_.push_back(
       {a, b, normal, arm_a, arm_b, lambda, w, normal.dot(relative), stuck ? 0.0 : friction});
