@@ -19,10 +19,21 @@ struct CirclePointContact {
 
 // the centre circle's point deepest in (or nearest to) the collider. A plane or sphere that every
 // point of the circle meets alike (the ring lies flat on the plane, or is centred on the sphere's
-// axis) gives angle 0. Boxes and cylinders: the best of 16 samples, refined by golden-section
-// search to 1e-9 rad (their distance is smooth along the circle except at edges, where the
-// search still brackets the minimum).
+// axis) gives angle 0. Boxes and cylinders: in closed form where a face's plane decides (a ring
+// lying on a face), else the best of 16 samples refined by parabolic interpolation to 1e-5 rad
+// (their distance is smooth along the circle except at edges, where the search still brackets
+// the minimum).
 CirclePointContact deepest_circle_point(const Collider& collider, const CircleFrame& circle);
+
+// the same from the last deepest angle (cos_s, sin_s): for boxes and cylinders a search in the
+// third of a radian either side of it (from scratch when the minimum has left that bracket)
+CirclePointContact deepest_circle_point_near(const Collider& collider, const CircleFrame& circle,
+                                             double cos_s, double sin_s);
+
+// a lower bound on the signed distance of every point of the circle to the collider, cheaper than
+// the deepest point: exact for planes and spheres, the tightest of the supporting planes of a
+// box's faces or of a cylinder's caps and side
+double circle_collider_lower_bound(const Collider& collider, const CircleFrame& circle);
 
 // a cheap lower bound: no point of a circle of radius r around `centre` comes nearer to the
 // collider than this (m)

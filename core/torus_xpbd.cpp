@@ -120,6 +120,7 @@ void TorusXpbdSim::reset_scratch() {
   other_pairs_.clear();
   previous_pairs_.clear();
   collider_candidates_.clear();
+  previous_candidates_.clear();
   active_.clear();
   profile_.clear();
 }
@@ -136,10 +137,10 @@ bool TorusXpbdSim::step(double dt) {
     active_.clear();
     integrate(h);
     // colliders first: the rings' own contacts then see where the colliders put them
-    if (!collider_candidates_.empty()) solve_colliders(h);
+    const bool scan = k % kScanInterval == 0;
+    if (!collider_candidates_.empty()) solve_colliders(h, scan);
     {
       auto scope = profile_.scope("contacts");
-      const bool scan = k % kScanInterval == 0;
       for (int index : link_order_) solve_pair(link_pairs_[index], h, scan);
       if (!other_pairs_.empty()) {
         auto others = profile_.scope("self_contact");
@@ -199,14 +200,26 @@ void TorusXpbdSim::collect_pairs(double dt) {
     }
   }
 
-  collider_candidates_.clear();
   if (model_.colliders.empty()) return;
   auto colliders = profile_.scope("colliders");
+  // ring-major like the last step's list, whose deepest angles carry over
+  previous_candidates_.swap(collider_candidates_);
+  collider_candidates_.clear();
+  std::size_t last = 0;
   for (int i = 0; i < n; ++i) {
     if (model_.inverse_mass[i] == 0.0) continue;
     for (int k = 0; k < static_cast<int>(model_.colliders.size()); ++k) {
       const double bound = circle_collider_bound(model_.colliders[k], state_.position[i], c);
-      if (bound < a + reach_[i] * dt + slack) collider_candidates_.push_back({i, k});
+      if (bound >= a + reach_[i] * dt + slack) continue;
+      ColliderCandidate candidate{i, k};
+      while (last < previous_candidates_.size() &&
+             (previous_candidates_[last].ring != i ? previous_candidates_[last].ring < i
+                                                   : previous_candidates_[last].collider < k))
+        ++last;
+      if (last < previous_candidates_.size() && previous_candidates_[last].ring == i &&
+          previous_candidates_[last].collider == k)
+        candidate = previous_candidates_[last];
+      collider_candidates_.push_back(candidate);
     }
   }
 }

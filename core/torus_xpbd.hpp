@@ -9,7 +9,7 @@
 // spatial hash within the reach of the step's motion; links ordered outward from what holds the
 // fabric up), then substeps with one constraint pass each:
 //   integrate     - gravity and the gyroscopic term, positions and orientations predicted
-//   colliders     - the torus's deepest point and eight points of its centre circle
+//   colliders     - the torus's deepest point and four points of its centre circle
 //   contacts      - every pair's seeds (local minima of its centre circles' distance) followed by
 //                   Newton from their last angle, new minima found by a sampled scan every few
 //                   substeps; a seed closer than 2a gets a positional correction with generalised
@@ -103,6 +103,8 @@ struct ActiveContact {
 // a ring within reach of a collider during this step
 struct ColliderCandidate {
   int ring = 0, collider = 0;
+  double cos_s = 1.0, sin_s = 0.0;  // the last deepest point's angle on the ring's centre circle
+  bool followed = false;            // that angle is from the last substep
 };
 
 class TorusXpbdSim {
@@ -135,7 +137,7 @@ class TorusXpbdSim {
   void order_links();
   void solve_pair(RingPairContact& pair, double h, bool scan);
   void find_new_minima(RingPairContact& pair, const CirclePairDistance& distance, double limit);
-  void solve_colliders(double h);
+  void solve_colliders(double h, bool scan);
   void apply_contact(int a, int b, const Vec3& normal, const Vec3& point, double depth,
                      double friction, double h);
   void merge_contacts(std::size_t first, double h);
@@ -165,7 +167,7 @@ class TorusXpbdSim {
   std::vector<int> support_depth_;  // (n) links from the nearest support, -1 none
   std::vector<int> queue_;          // (n) breadth-first scratch
   std::vector<char> touching_;      // (n) 1: touched a collider in this step
-  std::vector<ColliderCandidate> collider_candidates_;
+  std::vector<ColliderCandidate> collider_candidates_, previous_candidates_;
   std::vector<ActiveContact> active_;
   std::vector<Mat3> rotation_;  // (n) each ring's orientation as a matrix, kept in step with it
   std::vector<Mat3> previous_rotation_;  // (n) the same at the substep's start

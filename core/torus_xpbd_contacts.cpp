@@ -31,10 +31,9 @@ constexpr double kScanReach = 4.0;
 // moved little since), more when it rested a few substeps
 constexpr int kSubstepNewton = 1;
 constexpr int kResumeNewton = 3;
-// the eight points of a ring's centre circle that rest on colliders, (cos, sin) of k pi / 4
-constexpr double kRootHalf = 0.7071067811865476;
-constexpr double kSupport[8][2] = {{1, 0},  {kRootHalf, kRootHalf},   {0, 1},  {-kRootHalf, kRootHalf},
-                                   {-1, 0}, {-kRootHalf, -kRootHalf}, {0, -1}, {kRootHalf, -kRootHalf}};
+// the four points of a ring's centre circle that rest on colliders beside the deepest one,
+// (cos, sin) of k pi / 2: a ring lying flat stands on them
+constexpr double kSupport[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
 
 double angle_cos(const PairSeed& seed, double c, double s) {
   return seed.cos_t * c + seed.sin_t * s;
@@ -161,17 +160,27 @@ void TorusXpbdSim::find_new_minima(RingPairContact& pair, const CirclePairDistan
   }
 }
 
-// each ring near a collider: the torus's deepest point, then eight points of its centre circle
+// each ring near a collider: the torus's deepest point, then four points of its centre circle
 // (a ring lying flat rests on all of them)
-void TorusXpbdSim::solve_colliders(double h) {
+void TorusXpbdSim::solve_colliders(double h, bool scan) {
   auto scope = profile_.scope("colliders");
   const double a = model_.ring.wire_radius, c = model_.ring.centre_radius;
-  for (const ColliderCandidate& candidate : collider_candidates_) {
+  for (ColliderCandidate& candidate : collider_candidates_) {
     const int i = candidate.ring;
     const Collider& collider = model_.colliders[candidate.collider];
     const double friction = model_.collider_friction[candidate.collider];
+    // nowhere within a wire radius of it: nothing to do
+    if (circle_collider_lower_bound(collider, circle_of(i)) >= a) {
+      candidate.followed = false;
+      continue;
+    }
     const std::size_t first = active_.size();
-    const CirclePointContact deepest = deepest_circle_point(collider, circle_of(i));
+    // from the last substep's deepest angle, from scratch at every scan
+    const CirclePointContact deepest =
+        candidate.followed && !scan
+            ? deepest_circle_point_near(collider, circle_of(i), candidate.cos_s, candidate.sin_s)
+            : deepest_circle_point(collider, circle_of(i));
+    candidate.cos_s = deepest.cos_s, candidate.sin_s = deepest.sin_s, candidate.followed = true;
     if (deepest.distance < a) {
       apply_contact(i, -1, deepest.normal, deepest.point - a * deepest.normal,
                     a - deepest.distance, friction, h);
