@@ -2,6 +2,7 @@
 // collider), and the velocity pass.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "core/circle_contact.hpp"
@@ -42,7 +43,7 @@ double angle_cos(const PairSeed& seed, double c, double s) {
 }  // namespace
 
 void TorusXpbdSim::solve_pairs(std::vector<RingPairContact>& pairs, double h, bool scan) {
-  for (RingPairContact& pair : pairs) solve_pair(pair, h, scan);
+  for (RingPairContact& pair : pairs) solve_pair(pair, h, scan, false);
 }
 
 
@@ -51,7 +52,7 @@ void TorusXpbdSim::solve_pairs(std::vector<RingPairContact>& pairs, double h, bo
 // pose the pair has then: the seeds before it may have pushed), and one closer than two wire
 // radii pushes the rings apart. A seed that cannot touch yet is not solved: its lower bound only
 // shrinks by the substep's motion, so it is solved again before it could touch.
-void TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan) {
+void TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan, bool linked) {
   const double a = model_.ring.wire_radius, c = model_.ring.centre_radius;
   // m, how much nearer the pair can come in a substep: its rings' own motion, and a margin for
   // what the contact solve moves them
@@ -66,7 +67,14 @@ void TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan) {
     }
   }
   CircleFrame fa = circle_of(pair.a), fb = circle_of(pair.b);
-  if (scan) find_new_minima(pair, CirclePairDistance(fa, fb), 2.0 * a + kScanReach * reach);
+  if (scan) {
+    // a linked pair seeds every minimum (its rings never part); another pair those that the
+    // fastest motion of the step could bring into contact before the next scan
+    const double fast = 2.0 * fastest_ * h + kSolveMotion * a;
+    const double limit = linked ? std::numeric_limits<double>::infinity()
+                                : 2.0 * a + kScanReach * std::max(reach, fast);
+    find_new_minima(pair, CirclePairDistance(fa, fb), limit);
+  }
   bool stale = false;
   int kept = 0;
   for (int k = 0; k < pair.seeds; ++k) {
@@ -84,7 +92,7 @@ void TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan) {
         seed.cos_t, seed.sin_t, seed.recent ? kSubstepNewton : kResumeNewton, 1e-10);
     // the side is the seed's while it follows one minimum: circles that crossed within the
     // substep (wires pushed through each other) have their gap reversed, a negative distance
-    const bool same = angle_cos(seed, p.cos_t, p.sin_t) > kSameMinimum;
+    const bool same = seed.recent && angle_cos(seed, p.cos_t, p.sin_t) > kSameMinimum;
     double distance = p.distance;
     if (p.distance > 1e-12 * c) {
       const Vec3 normal = (p.first - p.second) / p.distance;
@@ -96,8 +104,9 @@ void TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan) {
     }
     seed.cos_t = p.cos_t, seed.sin_t = p.sin_t;
     seed.bound = p.distance, seed.recent = true;
-    // a seed that found an earlier one's minimum, or drifted far off, is dropped
-    bool keep = distance < 4.0 * a;
+    // a seed that found an earlier one's minimum is dropped (far ones stay: their bound keeps
+    // them unsolved until they come near)
+    bool keep = true;
     for (int j = 0; j < kept && keep; ++j)
       keep = angle_cos(pair.seed[j], seed.cos_t, seed.sin_t) < kDuplicate;
     if (!keep) continue;
