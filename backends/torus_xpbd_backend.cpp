@@ -46,8 +46,8 @@ class TorusXpbdBackend final : public Backend {
 BackendInfo torus_xpbd_backend_info() {
   BackendInfo info;
   info.name = "torus_xpbd";
-  info.cost_us_per_ring_step = 3;
-  info.bytes_per_ring = 2000;
+  info.cost_us_per_ring_step = 25;
+  info.bytes_per_ring = 3000;
   info.summary = "rigid tori with exact torus-torus contact, extended position-based dynamics";
   info.knobs = torus_xpbd_knobs().specs();
   info.knob_round_trip = torus_xpbd_knobs().round_trip();
