@@ -11,7 +11,7 @@ const KnobTable<TorusXpbdSettings>& torus_xpbd_knobs() {
   using S = TorusXpbdSettings;
   static const KnobTable<S> table = [] {
     KnobTable<S> t;
-    t.time_step(0.004, 1e-6, 0.1, "time step, s");
+    t.time_step(0.005, 1e-6, 0.1, "time step, s");
     t.integer("substeps", &S::substeps, 1, 10000, "substeps per step, one constraint pass each");
     t.number("friction", &S::friction, 0.0, 10.0,
              "factor on the scene's Coulomb coefficients (0: frictionless)");
@@ -46,7 +46,7 @@ class TorusXpbdBackend final : public Backend {
 BackendInfo torus_xpbd_backend_info() {
   BackendInfo info;
   info.name = "torus_xpbd";
-  info.cost_us_per_ring_step = 25;
+  info.cost_us_per_ring_step = 30;
   info.bytes_per_ring = 3000;
   info.summary = "rigid tori with exact torus-torus contact, extended position-based dynamics";
   info.knobs = torus_xpbd_knobs().specs();

@@ -122,6 +122,7 @@ void TorusXpbdSim::reset_scratch() {
   collider_candidates_.clear();
   previous_candidates_.clear();
   active_.clear();
+  collider_holds_.clear();
   profile_.clear();
 }
 
@@ -135,6 +136,7 @@ bool TorusXpbdSim::step(double dt) {
   const double h = dt / substeps;
   for (int k = 0; k < substeps; ++k) {
     active_.clear();
+    collider_holds_.clear();
     integrate(h);
     // colliders first: the rings' own contacts then see where the colliders put them
     const bool scan = k % kScanInterval == 0;
@@ -147,6 +149,7 @@ bool TorusXpbdSim::step(double dt) {
         solve_pairs(other_pairs_, h, scan);
       }
     }
+    if (!collider_holds_.empty()) hold_collider_friction(h);
     update_velocities(h);
     velocity_pass(h);
   }

@@ -15,6 +15,7 @@
 //                   substeps; a seed closer than 2a gets a positional correction with generalised
 //                   inverse masses that include rotation, and static friction at the position
 //                   level
+//                   (then the colliders' static friction once more, after the rings' pull)
 //   velocities    - from the pose change over the substep (and drag)
 //   velocity pass - restitution and dynamic friction at the contacts that pushed
 // A step takes `substeps` substeps, more when rings fly fast: two rings never close in by more
@@ -35,7 +36,7 @@
 namespace chainmail {
 
 struct TorusXpbdSettings {
-  int substeps = 20;          // constraint passes per step
+  int substeps = 25;          // constraint passes per step
   double friction = 1.0;      // factor on the scene's Coulomb coefficients (0: frictionless)
   double restitution = 0.0;   // normal restitution of every contact
   double compliance = 0.0;    // m/N, contact compliance (0: rigid)
@@ -100,6 +101,15 @@ struct ActiveContact {
   double friction = 0.0;        // Coulomb coefficient
 };
 
+// a collider contact that static friction held in this substep
+struct ColliderHold {
+  int ring = 0;
+  Vec3 local_arm;  // m, the contact point in the ring's frame
+  Vec3 normal;     // unit, out of the collider
+  double lambda = 0.0;    // kg m, the normal multiplier
+  double friction = 0.0;  // Coulomb coefficient
+};
+
 // a ring within reach of a collider during this step
 struct ColliderCandidate {
   int ring = 0, collider = 0;
@@ -141,6 +151,7 @@ class TorusXpbdSim {
   void apply_contact(int a, int b, const Vec3& normal, const Vec3& point, double depth,
                      double friction, double h);
   void merge_contacts(std::size_t first, double h);
+  void hold_collider_friction(double h);
   void velocity_pass(double h);
   // rigid-body helpers
   Vec3 inverse_inertia_times(int ring, const Vec3& v) const;
@@ -169,6 +180,7 @@ class TorusXpbdSim {
   std::vector<char> touching_;      // (n) 1: touched a collider in this step
   std::vector<ColliderCandidate> collider_candidates_, previous_candidates_;
   std::vector<ActiveContact> active_;
+  std::vector<ColliderHold> collider_holds_;
   std::vector<Mat3> rotation_;  // (n) each ring's orientation as a matrix, kept in step with it
   std::vector<Mat3> previous_rotation_;  // (n) the same at the substep's start
 };

@@ -276,8 +276,32 @@ void TorusXpbdSim::apply_contact(int a, int b, const Vec3& normal, const Vec3& p
   // a contact that static friction held does not slide: no dynamic friction for it
   active_.push_back(
       {a, b, normal, arm_a, arm_b, lambda, w, normal.dot(relative), stuck ? 0.0 : friction});
+  // a ring held by a collider's static friction is held again after the rings' own contacts
+  if (stuck && !ring_b)
+    collider_holds_.push_back({a, rotation_[a].transpose() * arm_a, normal, lambda, friction});
   apply_correction(a, arm_a, correction);
   if (ring_b) apply_correction(b, arm_b, -correction);
+}
+
+// static friction against the colliders once more, after the rings' contacts have moved the rings:
+// each held contact point's slip over the substep is undone again where friction can (otherwise
+// the rings' pull drags a sheet over a table a little every substep)
+void TorusXpbdSim::hold_collider_friction(double h) {
+  auto scope = profile_.scope("colliders");
+  const double stiffness_term = model_.settings.compliance / (h * h);
+  for (const ColliderHold& hold : collider_holds_) {
+    const int i = hold.ring;
+    const Vec3 arm = rotation_[i] * hold.local_arm;
+    Vec3 slip = state_.position[i] + arm - state_.previous_position[i] -
+                previous_rotation_[i] * hold.local_arm;
+    slip -= slip.dot(hold.normal) * hold.normal;
+    const double length = slip.norm();
+    if (length == 0.0) continue;
+    const Vec3 tangent = slip / length;
+    const double lambda_t =
+        length / (generalized_inverse_mass(i, arm, tangent) + stiffness_term);
+    if (lambda_t < hold.friction * hold.lambda) apply_correction(i, arm, -lambda_t * tangent);
+  }
 }
 
 // restitution and dynamic friction on the velocities the substep produced, at every contact that
