@@ -143,7 +143,7 @@ bool TorusXpbdSim::step(double dt) {
     if (!collider_candidates_.empty()) solve_colliders(h, scan);
     {
       auto scope = profile_.scope("contacts");
-      for (int index : link_order_) solve_pair(link_pairs_[index], h, scan, true);
+      for (int index : link_order_) solve_pair(link_pairs_[index], h, scan);
       if (!other_pairs_.empty()) {
         auto others = profile_.scope("self_contact");
         solve_pairs(other_pairs_, h, scan);

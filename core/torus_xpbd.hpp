@@ -145,7 +145,7 @@ class TorusXpbdSim {
   // contacts (torus_xpbd_contacts.cpp)
   void solve_pairs(std::vector<RingPairContact>& pairs, double h, bool scan);
   void order_links();
-  void solve_pair(RingPairContact& pair, double h, bool scan, bool linked);
+  void solve_pair(RingPairContact& pair, double h, bool scan);
   void find_new_minima(RingPairContact& pair, const CirclePairDistance& distance, double limit);
   void solve_colliders(double h, bool scan);
   void apply_contact(int a, int b, const Vec3& normal, const Vec3& point, double depth,

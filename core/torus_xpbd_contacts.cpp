@@ -2,7 +2,6 @@
 // collider), and the velocity pass.
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <numbers>
 
 #include "core/circle_contact.hpp"
@@ -43,7 +42,7 @@ double angle_cos(const PairSeed& seed, double c, double s) {
 }  // namespace
 
 void TorusXpbdSim::solve_pairs(std::vector<RingPairContact>& pairs, double h, bool scan) {
-  for (RingPairContact& pair : pairs) solve_pair(pair, h, scan, false);
+  for (RingPairContact& pair : pairs) solve_pair(pair, h, scan);
 }
 
 
@@ -52,7 +51,7 @@ void TorusXpbdSim::solve_pairs(std::vector<RingPairContact>& pairs, double h, bo
 // pose the pair has then: the seeds before it may have pushed), and one closer than two wire
 // radii pushes the rings apart. A seed that cannot touch yet is not solved: its lower bound only
 // shrinks by the substep's motion, so it is solved again before it could touch.
-void TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan, bool linked) {
+void TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan) {
   const double a = model_.ring.wire_radius, c = model_.ring.centre_radius;
   // m, how much nearer the pair can come in a substep: its rings' own motion, and a margin for
   // what the contact solve moves them
@@ -68,11 +67,10 @@ void TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan, bool l
   }
   CircleFrame fa = circle_of(pair.a), fb = circle_of(pair.b);
   if (scan) {
-    // a linked pair seeds every minimum (its rings never part); another pair those that the
-    // fastest motion of the step could bring into contact before the next scan
+    // the minima that the pair's own motion, or the fastest ring's of the step (a ring hit
+    // between two scans may move as fast), could bring into contact before the next scan
     const double fast = 2.0 * fastest_ * h + kSolveMotion * a;
-    const double limit = linked ? std::numeric_limits<double>::infinity()
-                                : 2.0 * a + kScanReach * std::max(reach, fast);
+    const double limit = 2.0 * a + kScanReach * std::max(reach, fast);
     find_new_minima(pair, CirclePairDistance(fa, fb), limit);
   }
   bool stale = false;
