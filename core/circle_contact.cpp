@@ -184,7 +184,8 @@ int local_closest_points(const CircleFrame& first, const CircleFrame& second, Cl
     const double before = f[(k + count - 1) % count], after = f[(k + 1) % count];
     if (f[k] <= before && f[k] < after) refine_from(k);
   }
-  if (n == 0) refine_from(static_cast<int>(std::min_element(f.begin(), f.begin() + count) - f.begin()));
+  if (n == 0)
+    refine_from(static_cast<int>(std::min_element(f.begin(), f.begin() + count) - f.begin()));
   std::sort(found.begin(), found.begin() + n,
             [](const ClosestPoints& x, const ClosestPoints& y) { return x.distance < y.distance; });
   const int kept = std::min(n, capacity);

@@ -17,9 +17,9 @@ namespace chainmail {
 // a circle with its in-plane axes: points centre + radius (cos s x + sin s z), normal = z x x
 // (a ring's local X, Z and Y, see ring.hpp)
 struct CircleFrame {
-  Vec3 centre;  // m
-  Vec3 x, z;    // unit, orthogonal, in the circle's plane
-  Vec3 normal;  // unit
+  Vec3 centre;          // m
+  Vec3 x, z;            // unit, orthogonal, in the circle's plane
+  Vec3 normal;          // unit
   double radius = 0.0;  // m
   Vec3 at(double cos_s, double sin_s) const { return centre + radius * (cos_s * x + sin_s * z); }
 };
@@ -30,9 +30,9 @@ CircleFrame ring_frame(const Vec3& centre, const Quat& orientation, double centr
 CircleFrame circle_frame(const Vec3& centre, const Vec3& normal, double radius);
 
 struct ClosestPoints {
-  Vec3 first = Vec3::Zero();   // m, on the first circle
-  Vec3 second = Vec3::Zero();  // m, on the second circle
-  double distance = 0.0;       // m, |second - first|
+  Vec3 first = Vec3::Zero();        // m, on the first circle
+  Vec3 second = Vec3::Zero();       // m, on the second circle
+  double distance = 0.0;            // m, |second - first|
   double cos_t = 1.0, sin_t = 0.0;  // the second circle's angle at `second` (the next warm start)
 };
 

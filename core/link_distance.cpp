@@ -19,9 +19,8 @@ bool linked_and_clear(const Vec3& axis_first, const Vec3& axis_second, double d,
   const Circle first{Vec3::Zero(), axis_first, c};
   const Circle second{Vec3(d, 0.0, 0.0), axis_second, c};
   if (!circles_linked(first, second)) return false;
-  const ClosestPoints p =
-      closest_points(circle_frame(first.centre, first.normal, c),
-                     circle_frame(second.centre, second.normal, c));
+  const ClosestPoints p = closest_points(circle_frame(first.centre, first.normal, c),
+                                         circle_frame(second.centre, second.normal, c));
   return p.distance >= 2.0 * ring.wire_radius;
 }
 
@@ -83,8 +82,9 @@ LinkDistanceTable::LinkDistanceTable(const RingGeometry& ring, int tilt_nodes, i
       for (int k = 0; k < twist_nodes_; ++k) {
         // the distance is symmetric in the two rings: fill the lower triangle from the upper
         const std::size_t at = (static_cast<std::size_t>(i) * tilt_nodes_ + j) * twist_nodes_ + k;
-        value_[at] = j < i ? value_[(static_cast<std::size_t>(j) * tilt_nodes_ + i) * twist_nodes_ + k]
-                           : max_link_distance(node(i, j, k), ring);
+        value_[at] =
+            j < i ? value_[(static_cast<std::size_t>(j) * tilt_nodes_ + i) * twist_nodes_ + k]
+                  : max_link_distance(node(i, j, k), ring);
       }
     }
   }
@@ -108,8 +108,7 @@ double LinkDistanceTable::max_distance(const LinkOrientation& o) const {
   for (int di = 0; di < 2; ++di) {
     for (int dj = 0; dj < 2; ++dj) {
       for (int dk = 0; dk < 2; ++dk) {
-        const double weight =
-            (di ? fi : 1.0 - fi) * (dj ? fj : 1.0 - fj) * (dk ? fk : 1.0 - fk);
+        const double weight = (di ? fi : 1.0 - fi) * (dj ? fj : 1.0 - fj) * (dk ? fk : 1.0 - fk);
         sum += weight * at(i + di, j + dj, k + dk);
       }
     }

@@ -101,7 +101,8 @@ double face_bound(const Collider& collider, const CircleFrame& circle, double& c
     normals[faces] = Vec3::UnitY(), offsets[faces++] = collider.half_height;
     normals[faces] = -Vec3::UnitY(), offsets[faces++] = collider.half_height;
     const Vec3 radial(local.x(), 0.0, local.z());
-    if (radial.squaredNorm() > 0.0) normals[faces] = radial.normalized(), offsets[faces++] = collider.radius;
+    if (radial.squaredNorm() > 0.0)
+      normals[faces] = radial.normalized(), offsets[faces++] = collider.radius;
   }
   double bound = -1e300;
   for (int k = 0; k < faces; ++k) {

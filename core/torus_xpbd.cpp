@@ -131,8 +131,9 @@ bool TorusXpbdSim::step(double dt) {
   // enough substeps that two rings close in by at most a wire radius in one: wires cannot pass
   // through each other between two contact solves, however fast the rings fly
   const double travel = 2.0 * fastest_ * dt / model_.ring.wire_radius;
-  const int substeps = std::max(
-      model_.settings.substeps, static_cast<int>(std::min(std::ceil(travel), double{kMaxSubsteps})));
+  const int substeps =
+      std::max(model_.settings.substeps,
+               static_cast<int>(std::min(std::ceil(travel), double{kMaxSubsteps})));
   const double h = dt / substeps;
   for (int k = 0; k < substeps; ++k) {
     active_.clear();
@@ -253,8 +254,10 @@ void TorusXpbdSim::order_links() {
     const int da = support_depth_[pair.a], db = support_depth_[pair.b];
     return da < 0 || db < 0 ? n : std::min(da, db);  // unsupported last
   };
-  std::stable_sort(link_order_.begin(), link_order_.end(),
-                   [&](int x, int y) { return depth(x) != depth(y) ? depth(x) < depth(y) : x < y; });
+  // a total order (ties by index): std::sort needs no buffer, and the order is deterministic
+  std::sort(link_order_.begin(), link_order_.end(), [&](int x, int y) {
+    return depth(x) != depth(y) ? depth(x) < depth(y) : x < y;
+  });
 }
 
 void TorusXpbdSim::integrate(double h) {
@@ -269,7 +272,8 @@ void TorusXpbdSim::integrate(double h) {
     v += h * model_.gravity;
     state_.position[i] += h * v;
     travel_[i] = (v.norm() + state_.angular_velocity[i].norm() *
-                                 (model_.ring.centre_radius + model_.ring.wire_radius)) * h;
+                                 (model_.ring.centre_radius + model_.ring.wire_radius)) *
+                 h;
     // the gyroscopic torque of a symmetric top, -w x (I w) = (Ia - Id)(axis . w)(axis x w)
     Quat& q = state_.orientation[i];
     Vec3& w = state_.angular_velocity[i];
@@ -347,7 +351,8 @@ double TorusXpbdSim::energy() const {
     const Vec3& w = state_.angular_velocity[i];
     const double along = w.dot(state_.orientation[i] * Vec3::UnitY());
     const double across2 = w.squaredNorm() - along * along;
-    total += 0.5 * m * state_.velocity[i].squaredNorm() - m * model_.gravity.dot(state_.position[i]) +
+    total += 0.5 * m * state_.velocity[i].squaredNorm() -
+             m * model_.gravity.dot(state_.position[i]) +
              0.5 * (model_.inertia_axis[i] * along * along + model_.inertia_diameter[i] * across2);
   }
   return total;

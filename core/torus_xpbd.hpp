@@ -36,20 +36,20 @@
 namespace chainmail {
 
 struct TorusXpbdSettings {
-  int substeps = 25;          // constraint passes per step
-  double friction = 1.0;      // factor on the scene's Coulomb coefficients (0: frictionless)
-  double restitution = 0.0;   // normal restitution of every contact
-  double compliance = 0.0;    // m/N, contact compliance (0: rigid)
-  double damping = 0.0;       // 1/s, linear and angular velocity drag
-  bool sleeping = false;      // rings at rest are not integrated until a contact moves them
+  int substeps = 25;         // constraint passes per step
+  double friction = 1.0;     // factor on the scene's Coulomb coefficients (0: frictionless)
+  double restitution = 0.0;  // normal restitution of every contact
+  double compliance = 0.0;   // m/N, contact compliance (0: rigid)
+  double damping = 0.0;      // 1/s, linear and angular velocity drag
+  bool sleeping = false;     // rings at rest are not integrated until a contact moves them
 };
 
 // fixed model: built once from the scene
 struct TorusXpbdModel {
   RingGeometry ring;
-  std::vector<double> inverse_mass;      // (n) 1/kg, 0 for pinned rings
-  std::vector<double> inertia_diameter;  // (n) kg m^2, about a diameter
-  std::vector<double> inertia_axis;      // (n) kg m^2, about the ring axis
+  std::vector<double> inverse_mass;              // (n) 1/kg, 0 for pinned rings
+  std::vector<double> inertia_diameter;          // (n) kg m^2, about a diameter
+  std::vector<double> inertia_axis;              // (n) kg m^2, about the ring axis
   std::vector<double> inverse_inertia_diameter;  // (n) 1/(kg m^2), 0 for pinned rings
   std::vector<double> inverse_inertia_axis;      // (n) 1/(kg m^2), 0 for pinned rings
   std::vector<RingPair> links;                   // (m) linked neighbours, a < b, sorted
@@ -104,8 +104,8 @@ struct ActiveContact {
 // a collider contact that static friction held in this substep
 struct ColliderHold {
   int ring = 0;
-  Vec3 local_arm;  // m, the contact point in the ring's frame
-  Vec3 normal;     // unit, out of the collider
+  Vec3 local_arm;         // m, the contact point in the ring's frame
+  Vec3 normal;            // unit, out of the collider
   double lambda = 0.0;    // kg m, the normal multiplier
   double friction = 0.0;  // Coulomb coefficient
 };
@@ -166,10 +166,10 @@ class TorusXpbdSim {
   SpatialHash hash_;
   StageProfile profile_;
   // per-step and per-substep scratch, kept between steps so the loops do not allocate
-  std::vector<double> reach_;  // (n) m/s, bound on the speed of any point of each ring
+  std::vector<double> reach_;   // (n) m/s, bound on the speed of any point of each ring
   std::vector<double> travel_;  // (n) m, how far any point of each ring moves in this substep
-  double fastest_ = 0.0;       // m/s, the largest of them
-  Positions centres_;          // (3, n) m, ring centres for the spatial hash
+  double fastest_ = 0.0;        // m/s, the largest of them
+  Positions centres_;           // (3, n) m, ring centres for the spatial hash
   std::vector<RingPair> hash_pairs_;
   std::vector<RingPairContact> link_pairs_, other_pairs_, previous_pairs_;
   // links in the order they are solved: outward from what holds the fabric up (pins, and rings

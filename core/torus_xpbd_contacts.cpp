@@ -45,7 +45,6 @@ void TorusXpbdSim::solve_pairs(std::vector<RingPairContact>& pairs, double h, bo
   for (RingPairContact& pair : pairs) solve_pair(pair, h, scan);
 }
 
-
 // one pair in one substep: new minima that could touch before the next scan are seeded (when
 // `scan`); then each seed that may touch in this substep is followed from its last angle (on the
 // pose the pair has then: the seeds before it may have pushed), and one closer than two wire
@@ -135,8 +134,7 @@ void TorusXpbdSim::find_new_minima(RingPairContact& pair, const CirclePairDistan
   if (*std::min_element(f, f + kSamples) > reach2) return;
   const auto& angle = CirclePairDistance::samples();
   for (int k = 0; k < kSamples; ++k) {
-    if (f[k] > reach2 || f[k] > f[(k + kSamples - 1) % kSamples] ||
-        f[k] >= f[(k + 1) % kSamples])
+    if (f[k] > reach2 || f[k] > f[(k + kSamples - 1) % kSamples] || f[k] >= f[(k + 1) % kSamples])
       continue;
     bool covered = false;
     for (int j = 0; j < pair.seeds && !covered; ++j) {
@@ -189,8 +187,8 @@ void TorusXpbdSim::solve_colliders(double h, bool scan) {
             : deepest_circle_point(collider, circle_of(i));
     candidate.cos_s = deepest.cos_s, candidate.sin_s = deepest.sin_s, candidate.followed = true;
     if (deepest.distance < a) {
-      apply_contact(i, -1, deepest.normal, deepest.point - a * deepest.normal,
-                    a - deepest.distance, friction, h);
+      apply_contact(i, -1, deepest.normal, deepest.point - a * deepest.normal, a - deepest.distance,
+                    friction, h);
       touching_[i] = 1;
     }
     for (const auto& angle : kSupport) {
@@ -225,8 +223,7 @@ void TorusXpbdSim::merge_contacts(std::size_t first, double h) {
   merged.lambda = lambda;
   merged.friction = friction;
   merged.w = generalized_inverse_mass(merged.a, merged.arm_a, merged.normal);
-  merged.approach =
-      merged.normal.dot(point_velocity(merged.a, merged.arm_a) - h * model_.gravity);
+  merged.approach = merged.normal.dot(point_velocity(merged.a, merged.arm_a) - h * model_.gravity);
   active_.resize(first);
   if (merged.w > 0.0) active_.push_back(merged);
 }
@@ -296,8 +293,7 @@ void TorusXpbdSim::hold_collider_friction(double h) {
     const double length = slip.norm();
     if (length == 0.0) continue;
     const Vec3 tangent = slip / length;
-    const double lambda_t =
-        length / (generalized_inverse_mass(i, arm, tangent) + stiffness_term);
+    const double lambda_t = length / (generalized_inverse_mass(i, arm, tangent) + stiffness_term);
     if (lambda_t < hold.friction * hold.lambda) apply_correction(i, arm, -lambda_t * tangent);
   }
 }

@@ -26,8 +26,9 @@ double aspect_from_arguments(int argc, char** argv) {
 int main(int argc, char** argv) {
   const double aspect = aspect_from_arguments(argc, argv);
   if (aspect == 0.0) {
-    std::fprintf(stderr, "chainmail_link_table: usage: chainmail_link_table [--aspect AR], "
-                         "AR in [2, 100]\n");
+    std::fprintf(stderr,
+                 "chainmail_link_table: usage: chainmail_link_table [--aspect AR], "
+                 "AR in [2, 100]\n");
     return 2;
   }
   const chainmail::RingGeometry defaults;

@@ -36,8 +36,9 @@ TEST_F(TorusXpbd, DeclaresItsKnobsAndRefusesBadValues) {
   }
   EXPECT_EQ(find_knob(*info, "sleeping")->default_value, 0.0) << "sleeping is off by default";
   EXPECT_EQ(find_knob(*info, "compliance")->default_value, 0.0) << "rigid by default";
-  for (const json& bad : {json{{"substeps", 0}}, json{{"restitution", 1.5}},
-                          json{{"friction", -1.0}}, json{{"sleeping", 1}}, json{{"iterations", 4}}}) {
+  for (const json& bad :
+       {json{{"substeps", 0}}, json{{"restitution", 1.5}}, json{{"friction", -1.0}},
+        json{{"sleeping", 1}}, json{{"iterations", 4}}}) {
     const Scene scene = scene_from_json(sheet(1, 1, "xz", bad), "test");
     EXPECT_THROW(resolve_knobs(scene, *info), SceneError) << bad.dump();
   }

@@ -17,7 +17,9 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-Circle as_circle(const CircleFrame& f) { return Circle{f.centre, f.normal, f.radius}; }
+Circle as_circle(const CircleFrame& f) {
+  return Circle{f.centre, f.normal, f.radius};
+}
 
 // dense brute force: the second circle sampled, the closed-form distance of each sample to the
 // first circle; an upper bound of the true minimum within r2 (pi / samples)^2 / 2
@@ -155,7 +157,8 @@ TEST(CircleContact, CompressedLinkHasTwoMinima) {
   // perpendicular links with centres d apart, d < 2a: the wires meet on both sides, d apart each
   const double c = 4.8, d = 1.0;
   const CircleFrame a = ring_frame(Vec3::Zero(), Quat::Identity(), c);
-  const CircleFrame b = ring_frame(Vec3(d, 0, 0), Quat(Eigen::AngleAxisd(0.5 * kPi, Vec3::UnitX())), c);
+  const CircleFrame b =
+      ring_frame(Vec3(d, 0, 0), Quat(Eigen::AngleAxisd(0.5 * kPi, Vec3::UnitX())), c);
   ClosestPoints minima[4];
   const int count = local_closest_points(a, b, minima, 4);
   ASSERT_EQ(count, 2);

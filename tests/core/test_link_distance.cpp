@@ -55,9 +55,9 @@ TEST(LinkDistance, TheMaximumIsWhereTheWiresTouch) {
     const double c = ring.centre_radius;
     const Circle a{Vec3::Zero(), first, c}, b{Vec3(d, 0, 0), second, c};
     EXPECT_TRUE(circles_linked(a, b));
-    const double gap = closest_points(circle_frame(a.centre, a.normal, c),
-                                      circle_frame(b.centre, b.normal, c))
-                           .distance;
+    const double gap =
+        closest_points(circle_frame(a.centre, a.normal, c), circle_frame(b.centre, b.normal, c))
+            .distance;
     EXPECT_NEAR(gap, 2.0 * ring.wire_radius, 1e-9 * c);
     // never beyond the straight chain's hook
     EXPECT_LE(d, ring.inner_diameter() * (1.0 + 1e-12));
@@ -102,8 +102,7 @@ TEST(LinkDistance, TableIsExactAtItsNodesAndCloseBetween) {
   // from axes and a centre line, as a model holds them
   Vec3 first, second;
   link_axes(middle, first, second);
-  EXPECT_DOUBLE_EQ(table.max_distance(first, second, Vec3(0.01, 0, 0)),
-                   table.max_distance(middle));
+  EXPECT_DOUBLE_EQ(table.max_distance(first, second, Vec3(0.01, 0, 0)), table.max_distance(middle));
 }
 
 }  // namespace

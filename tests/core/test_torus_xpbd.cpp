@@ -29,8 +29,7 @@ struct Sim {
   Scene scene;
   Weave weave;
   TorusXpbdSim sim;
-  Sim(const json& document, const TorusXpbdSettings& settings,
-      const Quat* orientation = nullptr)
+  Sim(const json& document, const TorusXpbdSettings& settings, const Quat* orientation = nullptr)
       : scene(scene_from_json(document, "test")), weave(make_weave(scene.weave, scene.ring)) {
     if (orientation) {
       for (int i = 0; i < weave.size(); ++i)
@@ -112,9 +111,8 @@ TEST(TorusXpbd, ARingHangsFromAPinnedRingWhereTheWiresHook) {
   EXPECT_NEAR(hanging.x(), top.x(), 0.02 * a);
   EXPECT_NEAR(hanging.z(), top.z(), 0.02 * a);
   EXPECT_NEAR(top.y() - hanging.y(), ring.inner_diameter(), 0.02 * a);
-  const ClosestPoints contact =
-      closest_points(ring_frame(top, run.state().orientation[0], c),
-                     ring_frame(hanging, run.state().orientation[1], c));
+  const ClosestPoints contact = closest_points(ring_frame(top, run.state().orientation[0], c),
+                                               ring_frame(hanging, run.state().orientation[1], c));
   EXPECT_NEAR(contact.distance, 2.0 * a, 0.02 * a);
   EXPECT_LT((contact.first - (top - c * Vec3::UnitY())).norm(), 0.05 * a);
   EXPECT_LT(run.state().velocity[1].norm(), 1e-3);
