@@ -3,6 +3,7 @@
 // (the runner times nothing else); frame() emits the common RingFrame.
 #pragma once
 
+#include <deque>
 #include <functional>
 #include <memory>
 #include <string>
@@ -48,15 +49,32 @@ struct BackendInfo {
 };
 
 // Which backends exist and which this binary has. The project has a fixed set of backends
-// (known_backend_names(): plausible, massspring, bullet, ode, torus_xpbd); the optional ones
-// (bullet, ode) are built only when the build finds their libraries (CHAINMAIL_WITH_BULLET,
-// CHAINMAIL_WITH_ODE).
-// A name that is known but not built is valid input that this binary cannot run; a name that is
-// not known is bad input.
+// (plausible, massspring, bullet, ode, torus_xpbd); the optional ones (bullet, ode) are built
+// only when the build finds their libraries (CHAINMAIL_WITH_BULLET, CHAINMAIL_WITH_ODE). A name
+// that is known but not built is valid input that this binary cannot run; a name that is not
+// known is bad input.
+// Code outside the project adds its own backends with register_backend(); they follow the
+// project's in the order registered, and every command and lookup below treats them alike.
 
-// every backend built into this binary, in the order of known_backend_names()
-const std::vector<BackendInfo>& backend_registry();
-// every backend the project has, built into this binary or not, in a fixed order
+// Adds a backend defined outside this project: after the call it is known and built, scenes may
+// configure it under backends.<name> and runs may name it. Call it before anything reads the
+// registry (at the start of main); it is not safe against concurrent lookups. BackendInfo
+// pointers and references handed out earlier stay valid. Throws std::invalid_argument, with a
+// message starting "register_backend: ", when
+//   - the name is taken: a backend of this project (built into this binary or not) or one
+//     registered before;
+//   - the name is not a word of lowercase letters, digits and '_' starting with a letter, or is
+//     "all" or "none" (it appears in --backends lists, --set keys and folder names);
+//   - the knobs lack "dt" (a number with a positive minimum), repeat a name, have an empty help
+//     text, or a default outside its range (integers integral, booleans 0 or 1);
+//   - create is empty.
+void register_backend(BackendInfo info);
+
+// every backend built into this binary, in the order of known_backend_names(), then the
+// registered ones
+const std::deque<BackendInfo>& backend_registry();
+// every backend the project has, built into this binary or not, in a fixed order, then the
+// registered ones
 const std::vector<std::string>& known_backend_names();
 bool backend_known(const std::string& name);
 bool backend_built(const std::string& name);                // known and built into this binary

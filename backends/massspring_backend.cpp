@@ -25,7 +25,10 @@ const KnobTable<MassSpringKnobs>& massspring_knobs() {
     t.number("shear_ks", &S::shear_ks, 0.0, 1e9, "shear spring constant, N/m");
     t.number("bend_ks", &S::bend_ks, 0.0, 1e9, "bending spring constant, N/m");
     t.number("damping_percent", &S::damping_percent, 0.0, 100.0,
-             "Verlet damping, percent per step");
+             "Verlet damping, percent per 1/2700 s (the document's step) of motion other than "
+             "rigid");
+    t.boolean("damp_rigid", &S::damp_rigid,
+              "damping slows all motion, rigid motion included (the document's drag)");
     t.integer("correction_passes", &S::correction_passes, 0, 10000,
               "over-extension correction passes per step (0 = off)");
     t.number("max_extension", &S::max_extension, 0.0, 10.0,

@@ -13,24 +13,44 @@ const KnobTable<PlausibleSettings>& plausible_knobs() {
   static const KnobTable<S> table = [] {
     KnobTable<S> t;
     t.time_step(0.004, 1e-6, 0.1, "time step, s");
-    t.integer("iterations", &S::iterations, 1, 100000, "constraint sweeps per step");
+    t.integer("iterations", &S::iterations, 1, 100000, "most constraint sweeps per step");
+    t.number("tolerance", &S::tolerance, 0.0, 1.0,
+             "sweeps stop once the largest violation met is below this fraction of the link length");
+    t.integer("newton_steps", &S::newton_steps, 0, 10000,
+              "most Newton steps on edges and colliders together after the sweeps (0: sweeps only)");
+    t.boolean("link_geometry", &S::link_geometry,
+              "largest neighbour distance from the ring geometry, by the rings' orientation");
     t.number("max_link_fraction", &S::max_link_fraction, 0.2, 1.0,
-             "largest neighbour distance / inner diameter");
-    t.number("damping", &S::damping, 0.0, 1000.0, "velocity drag, 1/s");
+             "largest neighbour distance / inner diameter (without link_geometry, or where the "
+             "geometry gives none)");
+    t.number("damping", &S::damping, 0.0, 1000.0,
+             "damping of motion other than rigid motion of the whole, 1/s");
+    t.boolean("damp_rigid", &S::damp_rigid,
+              "damping slows all motion, rigid motion included (a drag)");
     t.number("repulsion_fraction", &S::repulsion_fraction, 0.0, 2.0,
-             "non-neighbour repulsion range / inner diameter");
-    t.number("repulsion_stiffness", &S::repulsion_stiffness, 0.0, 1e9, "N/m");
+             "non-neighbour minimum distance (or repulsion spring range) / inner diameter");
+    t.boolean("repulsion_spring", &S::repulsion_spring,
+              "non-neighbours repel by the paper's spring (explicit) instead of a minimum distance");
+    t.number("repulsion_stiffness", &S::repulsion_stiffness, 0.0, 1e9,
+             "stiffness of the repulsion spring, N/m");
     t.number("contact_skin", &S::contact_skin, 0.0, 10.0,
              "repulsion candidate list margin, fraction of the range (0 = rebuild every step)");
     t.number("contact_margin", &S::contact_margin, 0.0, 1.0,
-             "collider skin around a ring centre, m (0: a + c sin(a/c))");
+             "distance kept between a ring centre and a collider, m (0: the torus's extent along "
+             "the collider normal from the ring's orientation)");
     t.boolean("swivel", &S::swivel, "swivel rings into the 4-in-1 pattern");
     t.boolean("shock_propagation", &S::shock_propagation,
-              "a last constraint pass outward from the pins, moving only the far ring");
+              "a constraint pass outward from the pins before the sweeps, moving only the far ring");
     t.number("swivel_extended", &S::swivel_extended, 0.0, 0.5 * std::numbers::pi,
              "swivel angle at full extension, rad (0: the paper's a/c)");
     t.boolean("swivel_fit", &S::swivel_fit,
               "swivel at full extension fitted to the ring geometry (most neighbour clearance)");
+    t.boolean("compression_limits", &S::compression_limits,
+              "4-in-1: neighbours and rings sharing two neighbours come no closer than the ring "
+              "geometry lets them (off: the paper's wire thickness between neighbours only)");
+    t.boolean("swivel_from_pins", &S::swivel_from_pins,
+              "4-in-1: each ring swivels about the direction toward the pins it hangs from, "
+              "propagated through the weave (off: one pattern for the whole sheet)");
     return t;
   }();
   return table;
@@ -58,7 +78,7 @@ class PlausibleBackend final : public Backend {
 BackendInfo plausible_backend_info() {
   BackendInfo info;
   info.name = "plausible";
-  info.cost_us_per_ring_step = 0.3;
+  info.cost_us_per_ring_step = 12.0;
   info.bytes_per_ring = 1000;
   info.summary = "the paper's mass-per-ring model: Provot edge constraints, repulsion, swivel";
   info.knobs = plausible_knobs().specs();

@@ -2,7 +2,10 @@
 // built with, and their knobs resolved from a scene.
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <sstream>
+#include <stdexcept>
+#include <utility>
 
 #include "backends/backend.hpp"
 
@@ -16,7 +19,8 @@
 
 // Every backend the project has, in the order the harness lists them: its name and whether this
 // binary has it. A built backend is described by <name>_backend_info(), defined in its adapter.
-// A new backend needs its adapter, its sources in backends/CMakeLists.txt and one line here.
+// A new backend of the project needs its adapter, its sources in backends/CMakeLists.txt and one
+// line here; code outside the project calls register_backend() instead.
 #define CHAINMAIL_BACKENDS(X)      \
   X(plausible, 1)                  \
   X(massspring, 1)                 \
@@ -34,11 +38,12 @@ namespace {
 
 struct Registry {
   std::vector<std::string> known;  // every backend, built or not
-  std::vector<BackendInfo> built;  // those in this binary, in the same order
+  std::deque<BackendInfo> built;   // those in this binary, in the same order (a deque: pointers
+                                   // into it survive register_backend)
 };
 
-const Registry& registry() {
-  static const Registry all = [] {
+Registry& registry() {
+  static Registry all = [] {
     Registry r;
     // an unbuilt backend's info call sits in a discarded statement, which needs no definition
 #define CHAINMAIL_REGISTER(name, is_built) \
@@ -77,7 +82,67 @@ void check_kind(const KnobSpec& spec, const KnobValue& given, const std::string&
 
 }  // namespace
 
-const std::vector<BackendInfo>& backend_registry() { return registry().built; }
+// the checks of register_backend
+namespace {
+
+// a backend or knob name: a word of lowercase letters, digits and '_' starting with a letter
+bool plain_word(const std::string& name) {
+  if (name.empty() || name[0] < 'a' || name[0] > 'z') return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+  });
+}
+
+[[noreturn]] void refuse(const std::string& name, const std::string& what) {
+  throw std::invalid_argument("register_backend: backend '" + name + "': " + what);
+}
+
+void check_new_name(const std::string& name) {
+  if (!plain_word(name) || name == "all" || name == "none") {
+    refuse(name, "a name is a word of lowercase letters, digits and '_' starting with a letter, "
+                 "and not 'all' or 'none'");
+  }
+  if (backend_known(name)) {
+    refuse(name, std::string("the name is taken") +
+                     (backend_built(name) ? "" : " (by a backend not built into this binary)") +
+                     "; taken: " + join_names(known_backend_names()));
+  }
+}
+
+// the knob table rules every backend keeps (the registry's KnobTableContract tests)
+void check_new_knobs(const BackendInfo& info) {
+  std::set<std::string> names;
+  for (const KnobSpec& spec : info.knobs) {
+    const std::string knob = "knob '" + spec.name + "': ";
+    if (!plain_word(spec.name)) refuse(info.name, knob + "not a plain lowercase word");
+    if (!names.insert(spec.name).second) refuse(info.name, knob + "declared twice");
+    if (spec.help.empty()) refuse(info.name, knob + "no help text");
+    if (!(spec.min <= spec.default_value && spec.default_value <= spec.max))
+      refuse(info.name, knob + "default outside [min, max]");
+    const bool integral = std::floor(spec.min) == spec.min && std::floor(spec.max) == spec.max &&
+                          std::floor(spec.default_value) == spec.default_value;
+    if (spec.type == KnobSpec::Type::integer && !integral)
+      refuse(info.name, knob + "an integer knob needs integral min, max and default");
+    if (spec.type == KnobSpec::Type::boolean && (spec.min != 0.0 || spec.max != 1.0 || !integral))
+      refuse(info.name, knob + "a boolean knob has range [0, 1] and default 0 or 1");
+  }
+  const KnobSpec* dt = find_knob(info, "dt");
+  if (!dt || dt->type != KnobSpec::Type::number || !(dt->min > 0.0))
+    refuse(info.name, "needs a knob 'dt' (a number with a positive minimum)");
+}
+
+}  // namespace
+
+void register_backend(BackendInfo info) {
+  check_new_name(info.name);
+  check_new_knobs(info);
+  if (!info.create) refuse(info.name, "create is empty");
+  Registry& r = registry();
+  r.known.push_back(info.name);
+  r.built.push_back(std::move(info));
+}
+
+const std::deque<BackendInfo>& backend_registry() { return registry().built; }
 
 const std::vector<std::string>& known_backend_names() { return registry().known; }
 

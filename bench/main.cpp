@@ -8,9 +8,13 @@
 #include <optional>
 #include <sstream>
 
+#include "backends/backend.hpp"
 #include "bench/harness/bench_suite.hpp"
 #include "bench/harness/commands.hpp"
+#include "bench/harness/data_dir.hpp"
+#include "bench/harness/info_commands.hpp"
 #include "bench/harness/interrupt.hpp"
+#include "bench/harness/render_command.hpp"
 #include "bench/harness/stability.hpp"
 #include "bench/harness/sweep.hpp"
 #include "bench/harness/usage_error.hpp"
@@ -43,6 +47,28 @@ struct BenchFlags {
   chainmail::BenchCommand command;
   std::string backends;
   bool no_render = false;
+};
+struct InfoFlags {
+  CLI::App* backends = nullptr;
+  bool json = false;
+  CLI::App* check = nullptr;
+  chainmail::CheckCommand check_command;
+};
+
+// the --backends help: every backend this binary knows, those it cannot run marked
+std::string backends_help(const std::string& what) {
+  std::string names;
+  for (const std::string& name : chainmail::known_backend_names())
+    names += (names.empty() ? "" : ", ") + name +
+             (chainmail::backend_built(name) ? "" : " (not built)");
+  return what + ": a comma-separated list of " + names + "; or all";
+}
+
+struct RenderFlags {
+  CLI::App* app = nullptr;
+  chainmail::RenderCommand command;
+  std::string backends;
+  bool no_images = false;
 };
 
 // this binary, so sweep points run the very same build
@@ -81,11 +107,10 @@ void check_positive(const std::string& flag, double value) {
 // the budget flags of a command
 void add_budget(CLI::App* app, chainmail::Budget& budget) {
   app->add_option("--max-memory", budget.max_memory_gb,
-                  "refuse runs estimated to need more memory, GB (default 8)");
-  app->add_option("--max-hours", budget.max_hours,
-                  "refuse runs estimated to take longer, hours (default 2)");
+                  "refuse runs estimated to need more memory, GB");
+  app->add_option("--max-hours", budget.max_hours, "refuse runs estimated to take longer, hours");
   app->add_option("--max-output", budget.max_output_gb,
-                  "refuse runs estimated to write more frame data, GB (default 20)");
+                  "refuse runs estimated to write more frame data, GB");
 }
 
 void check_budget_flags(const chainmail::Budget& budget) {
@@ -99,7 +124,8 @@ void add_run(CLI::App& app, RunFlags& flags) {
   CLI::App* sub = flags.app =
       app.add_subcommand("run", "run one scene through one or more backends");
   sub->add_option("scene", run.scene_file, "scene file (JSON)")->required();
-  sub->add_option("--backends", flags.backends, "backends to run: a list, or all");
+  sub->add_option("--backends", flags.backends,
+                  backends_help("backends to run") + " (default: those the scene names)");
   sub->add_option("--out", run.out_dir,
                   "output folder (default results/<scene name>/run); only a folder chainmail "
                   "made is replaced");
@@ -110,11 +136,17 @@ void add_run(CLI::App& app, RunFlags& flags) {
   sub->add_flag("--frames", run.frames, "write frames/<backend>/<NNNNN>.csv");
   sub->add_flag("--render", run.render, "render side-by-side PNG frames into images/");
   sub->add_option("--shader", run.shader,
-                  "cloth shader for --render: blinn_phong, texture, bump, displacement, mirror");
+                  "cloth shader for --render: blinn_phong, texture, bump, displacement, mirror")
+      ->default_str("texture");
   sub->add_option("--material", run.material,
                   "ring material for --render: steel, silver, gold, copper, brass, bronze, "
-                  "titanium");
-  sub->add_option("--set", run.overrides, "override a scene key: dotted.key=value");
+                  "titanium")
+      ->default_str("steel");
+  sub->add_option("--export", run.exports,
+                  "write every backend's frames as gltf (export/<backend>.glb) or npz "
+                  "(export/<backend>.npz); repeat for both");
+  sub->add_option("--set", run.overrides, "override a scene key: dotted.key=value")
+      ->default_str("");
   sub->add_option("--cache", run.cache_dir,
                   "reference-run cache folder, or none (default ~/.cache/chainmail)");
   sub->add_flag("--quiet", flags.quiet, "no progress lines");
@@ -126,9 +158,12 @@ void add_sweep(CLI::App& app, SweepFlags& flags) {
       app.add_subcommand("sweep", "error against run time over a grid of knob values");
   sub->add_option("scene", sweep.scene_file, "scene file (JSON)")->required();
   sub->add_option("--vary", sweep.vary, "KEY=v1,v2,... ({backend} in KEY: each backend)")
+      ->default_str("")
       ->required();
-  sub->add_option("--backends", flags.backends, "backends: a list, or all");
-  sub->add_option("--set", sweep.overrides, "override a scene key for every point");
+  sub->add_option("--backends", flags.backends,
+                  backends_help("backends") + " (default: those the scene names)");
+  sub->add_option("--set", sweep.overrides, "override a scene key for every point")
+      ->default_str("");
   sub->add_option("--out", sweep.out_dir, "output folder (default results/<scene>/sweep)");
   sub->add_flag("--force", sweep.force, "replace an empty folder chainmail did not make");
   sub->add_option("--jobs", sweep.jobs, "points run in parallel")->check(CLI::Range(1, 256));
@@ -141,23 +176,76 @@ void add_stability(CLI::App& app, StabilityFlags& flags) {
   chainmail::StabilityCommand& stability = flags.command;
   CLI::App* sub = flags.app =
       app.add_subcommand("stability", "stiff and extreme cases: verdicts and largest stable dt");
-  sub->add_option("--backends", flags.backends, "backends: a list, or all");
-  sub->add_option("--out", stability.out_dir, "output folder (default results/stability)");
+  sub->add_option("--backends", flags.backends, backends_help("backends"))
+      ->default_str("all");
+  sub->add_option("--out", stability.out_dir, "output folder");
   sub->add_flag("--force", stability.force, "replace an empty folder chainmail did not make");
   sub->add_flag("--quick", stability.quick, "tiny sizes (test mode)");
-  sub->add_option("--max-wall", stability.max_wall_seconds, "watchdog per run, s (default 30)");
+  sub->add_option("--max-wall", stability.max_wall_seconds, "watchdog per run, s");
 }
 
 void add_bench(CLI::App& app, BenchFlags& flags) {
   chainmail::BenchCommand& bench = flags.command;
   CLI::App* sub = flags.app = app.add_subcommand(
       "bench", "the default scene set across all backends, writing results/bench");
-  sub->add_option("--out", bench.out_dir, "output folder (default results/bench)");
+  sub->add_option("--out", bench.out_dir, "output folder");
   sub->add_flag("--force", bench.force, "replace an empty folder chainmail did not make");
   sub->add_flag("--quick", bench.quick, "reduced sizes and durations (test mode)");
-  sub->add_option("--backends", flags.backends, "backends: a list, or all");
+  sub->add_option("--backends", flags.backends, backends_help("backends"))
+      ->default_str("all");
   sub->add_option("--jobs", bench.jobs, "sweep points in parallel")->check(CLI::Range(1, 256));
   sub->add_flag("--no-render", flags.no_render, "skip the side-by-side frames");
+}
+
+// the end of --help: exit statuses, and where the bench scenes are
+std::string help_footer() {
+  const chainmail::DataDir& data = chainmail::data_dir();
+  return "Exit status: 0 ok, 1 a run was unstable, 2 bad input, 3 internal error, 130 "
+         "interrupted.\n`chainmail backends` lists every backend and knob; the docs describe "
+         "every scene key, flag, metric and output file.\nBench scenes: " +
+         (data.root.empty() ? std::string("none found") : data.scenes()) +
+         " (CHAINMAIL_DATA_DIR overrides the data folder).";
+}
+
+void add_info(CLI::App& app, InfoFlags& flags) {
+  flags.backends = app.add_subcommand(
+      "backends", "list every backend and each knob's type, default, range and meaning");
+  flags.backends->add_flag("--json", flags.json, "as JSON (for tools)");
+  chainmail::CheckCommand& check = flags.check_command;
+  flags.check = app.add_subcommand(
+      "check", "validate scene files as run would, and run nothing (exit 0: all valid, 2: not)");
+  flags.check->add_option("scenes", check.scene_files, "scene files (JSON)")
+      ->required()
+      ->default_str("");
+  flags.check->add_option("--set", check.overrides, "override a scene key: dotted.key=value")
+      ->default_str("");
+  flags.check->add_flag("--resolved", check.resolved,
+                        "print each valid scene with every default filled in, one JSON line");
+}
+
+void add_render(CLI::App& app, RenderFlags& flags) {
+  chainmail::RenderCommand& render = flags.command;
+  CLI::App* sub = flags.app = app.add_subcommand(
+      "render", "draw a saved run's frames again (run --frames), without simulating");
+  sub->add_option("run", render.run_dir, "run folder with frames/")->required();
+  sub->add_option("--backends", flags.backends, "panels, in this order (default: all with frames)");
+  sub->add_option("--out", render.out_dir, "output folder (default results/<scene>/render)");
+  sub->add_flag("--force", render.force, "replace an empty folder chainmail did not make");
+  sub->add_option("--size", render.size, "panel size WxH, pixels (default 1280x720)");
+  sub->add_option("--samples", render.samples,
+                  "multisamples per pixel, 0 or 1 for none (default 4)")
+      ->check(CLI::Range(0, 16));
+  sub->add_option("--camera", render.camera,
+                  "scene (default), auto, front, side, top, or X,Y,Z:X,Y,Z[:FOV_DEG] (position, "
+                  "target, field of view)");
+  sub->add_option("--fps", render.fps, "frame rate of --video (default 20)");
+  sub->add_flag("--video", render.video, "also join the images into images/compare.mp4 (ffmpeg)");
+  sub->add_option("--material", render.material,
+                  "ring material: steel, silver, gold, copper, brass, bronze, titanium");
+  sub->add_option("--shader", render.shader,
+                  "cloth shader: blinn_phong, texture, bump, displacement, mirror");
+  sub->add_option("--export", render.exports, "also export frames: gltf, npz (repeat for both)");
+  sub->add_flag("--no-images", flags.no_images, "exports only (no GL needed)");
 }
 
 // the exit status when parsing ends the program (help, version, a parse error), else nullopt
@@ -208,6 +296,13 @@ int stability_main(StabilityFlags& flags) {
   return chainmail::stability_command(flags.command);
 }
 
+int render_main(RenderFlags& flags) {
+  read_backends(flags.app, flags.backends, flags.command.backends);
+  flags.command.fps_given = flags.app->count("--fps") > 0;
+  flags.command.images = !flags.no_images;
+  return chainmail::render_command(flags.command);
+}
+
 int bench_main(BenchFlags& flags, const char* argv0) {
   read_backends(flags.app, flags.backends, flags.command.backends);
   flags.command.executable = self_path(argv0);
@@ -221,27 +316,36 @@ int main(int argc, char** argv) {
   using namespace chainmail;
   CLI::App app{"chainmail: a physics comparison harness for interlocking-ring fabric"};
   app.require_subcommand(1);
+  app.option_defaults()->always_capture_default();  // --help shows every default
   app.set_version_flag("--version", chainmail_version() + " (" + chainmail_commit() + ", " +
                                         chainmail_build() + ")");
   RunFlags run_flags;
   SweepFlags sweep_flags;
   StabilityFlags stability_flags;
   BenchFlags bench_flags;
+  RenderFlags render_flags;
   add_run(app, run_flags);
   add_sweep(app, sweep_flags);
   add_stability(app, stability_flags);
   add_bench(app, bench_flags);
+  InfoFlags info_flags;
+  add_info(app, info_flags);
+  app.footer(help_footer());
+  add_render(app, render_flags);
   if (const std::optional<int> status = parse(app, argc, argv)) return *status;
 
   install_interrupt_handlers();
   try {
     for (const CLI::App* sub :
-         {run_flags.app, sweep_flags.app, stability_flags.app, bench_flags.app})
+         {run_flags.app, sweep_flags.app, stability_flags.app, bench_flags.app, render_flags.app})
       check_out_flag(sub);
     if (*run_flags.app) return run_main(run_flags);
     if (*sweep_flags.app) return sweep_main(sweep_flags, argv[0]);
     if (*stability_flags.app) return stability_main(stability_flags);
     if (*bench_flags.app) return bench_main(bench_flags, argv[0]);
+    if (*info_flags.backends) return backends_command(info_flags.json);
+    if (*info_flags.check) return check_command(info_flags.check_command);
+    if (*render_flags.app) return render_main(render_flags);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "chainmail: %s\n", e.what());
     return kExitBadInput;

@@ -20,7 +20,9 @@ inline bool solve_edge_constraint(const Vec3& p0, double w0, const Vec3& p1, dou
   const double w = w0 + w1;
   if (w == 0.0 || length2 < 1e-30) return false;
   const double length = std::sqrt(length2);
-  const double target = length > max_length ? max_length : min_length;
+  // decided on the squares, as above: an edge a rounding above its maximum can have a square root
+  // equal to it, and compared there would be pulled in to its minimum
+  const double target = length2 > max_length * max_length ? max_length : min_length;
   // one division: error / (length * w) scales d to each end's share of the correction
   const double scale = (length - target) / (length * w);  // > 0 stretched, < 0 compressed
   corr0 = (w0 * scale) * d;

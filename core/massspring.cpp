@@ -249,6 +249,7 @@ Model make_model(const Scene& scene, const Weave& weave, const Settings& setting
     model.pinned[ring] = 1;
     model.inv_mass[ring] = 0.0;
   }
+  model.rigid = rigid_freedom(weave.rest_position, model.inv_mass);
   return model;
 }
 
@@ -271,13 +272,26 @@ void accumulate_forces(const Model& model, const Positions& position, Positions&
 }
 
 void verlet_integrate(const Model& model, double dt, State& state) {
-  const double keep = 1.0 - model.settings.damping_percent / 100.0;
+  const Settings& settings = model.settings;
+  // the percentage applies per document step, whatever the step here
+  const double keep = std::pow(std::max(0.0, 1.0 - settings.damping_percent / 100.0),
+                               dt / settings.damping_interval);
   const double dt2 = dt * dt;
+  // this step's motion so far, m (pinned: none), and the part of it that damping removes
+  Positions motion = state.position - state.previous;
+  for (int m = 0; m < model.size(); ++m) {
+    if (model.pinned[m]) motion.col(m).setZero();
+  }
+  Positions damped = motion;
+  if (!settings.damp_rigid) {
+    damp_toward_rigid(model.rigid, state.position, model.mass, model.inv_mass, 1.0, damped);
+    damped = motion - damped;  // the deviation from rigid motion
+  }
   for (int m = 0; m < model.size(); ++m) {
     if (model.pinned[m]) continue;
     const Vec3 x = state.position.col(m);
-    state.position.col(m) =
-        x + keep * (x - state.previous.col(m)) + (model.inv_mass[m] * dt2) * state.force.col(m);
+    state.position.col(m) = x + motion.col(m) - (1.0 - keep) * damped.col(m) +
+                            (model.inv_mass[m] * dt2) * state.force.col(m);
     state.previous.col(m) = x;
   }
   state.last_dt = dt;

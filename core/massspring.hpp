@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/damping.hpp"
 #include "core/profile.hpp"
 #include "core/scene.hpp"
 #include "core/spatial_hash.hpp"
@@ -31,14 +32,18 @@ struct Spring {
 };
 
 struct Settings {
-  double ks = 5000.0;                // structural spring constant, N/m
-  double shear_ks = 5000.0;          // N/m
-  double bend_ks = 1000.0;           // N/m
-  double damping_percent = 0.2;      // d: x_new = x + (1 - d/100)(x - x_prev) + a dt^2
-  int correction_passes = 1;         // over-extension passes per step (the document uses one)
-  double max_extension = 0.1;        // springs are kept within (1 + max_extension) rest
-  bool self_collision = false;       // the self_collide stage runs only when set
-  double thickness = 0.0;            // m; no two masses closer than this (self-collision)
+  double ks = 5000.0;        // structural spring constant, N/m
+  double shear_ks = 5000.0;  // N/m
+  double bend_ks = 1000.0;   // N/m
+  // d: x_new = x + (x - x_prev) - (1 - keep)(x - x_prev - rigid) + a dt^2, keep = (1 - d/100)
+  // per damping_interval; rigid is the step's rigid motion of the whole (damp_rigid: none)
+  double damping_percent = 0.2;
+  double damping_interval = 1.0 / 2700.0;  // s, the document's step (90 frames/s x 30 steps)
+  bool damp_rigid = false;                 // damp all motion, as the document does
+  int correction_passes = 1;               // over-extension passes per step (the document uses one)
+  double max_extension = 0.1;              // springs are kept within (1 + max_extension) rest
+  bool self_collision = false;             // the self_collide stage runs only when set
+  double thickness = 0.0;                  // m; no two masses closer than this (self-collision)
   int self_collision_passes = 16;    // most projection sweeps over the candidate pairs per step
   double self_collision_skin = 0.5;  // candidate search reach beyond the thickness, x thickness
   int contact_rounds = 2;            // self_collide + collide rounds per step
@@ -54,6 +59,7 @@ struct Model {
   std::vector<std::uint8_t> pinned;  // (n) 1 = never moves
   std::vector<Collider> colliders;
   Vec3 gravity = Vec3(0.0, -9.81, 0.0);  // m/s^2
+  RigidFreedom rigid;                    // rigid motions the pins leave (damping spares them)
   Settings settings;
 
   int size() const { return static_cast<int>(mass.size()); }

@@ -3,9 +3,11 @@
 #include "core/geometry.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <vector>
 
 namespace chainmail {
 namespace {
@@ -33,6 +35,33 @@ bool axis_vector(const Positions& p, int ring, int minus, int plus, Vec3& out, d
     return false;
   }
   return spacing > 1e-15;
+}
+
+// one ring's neighbour directions along the two grid axes: unit vectors and spacings, m
+struct GridAxes {
+  Vec3 x = Vec3::Zero(), z = Vec3::Zero();
+  double dx = 0.0, dz = 0.0;
+  bool has_x = false, has_z = false;
+};
+
+// fills the axis `g` lacks from the first neighbour (on the axis it has) that has it, with that
+// spacing taken as its own; false when no neighbour has it
+bool borrow_axis(const std::vector<GridAxes>& axes, const std::array<int, 4>& nb, GridAxes& g) {
+  if (g.has_x && g.has_z) return true;
+  const int first = g.has_x ? 0 : 2;
+  for (int k = first; k < first + 2; ++k) {
+    if (nb[k] < 0) continue;
+    const GridAxes& other = axes[nb[k]];
+    if (g.has_x && other.has_z) {
+      g.z = other.z, g.dz = g.dx, g.has_z = true;
+      return true;
+    }
+    if (g.has_z && other.has_x) {
+      g.x = other.x, g.dx = g.dz, g.has_x = true;
+      return true;
+    }
+  }
+  return false;
 }
 
 }  // namespace
@@ -100,6 +129,16 @@ double fitted_extended_swivel(const RingGeometry& ring, double max_link_distance
   return 0.5 * (lo + hi);
 }
 
+Vec3 swivel_hinge(const Vec3& pull) {
+  const Vec3 normal = Vec3(1.0, 0.0, -1.0).normalized(), along = Vec3(1.0, 0.0, 1.0).normalized();
+  double turn = std::atan2(pull.dot(along), pull.dot(normal));  // (-pi, pi]
+  // a hinge is a line: the pull's direction or its opposite, whichever is nearer the row normal
+  if (turn > 0.5 * std::numbers::pi) turn -= std::numbers::pi;
+  if (turn < -0.5 * std::numbers::pi) turn += std::numbers::pi;
+  turn = std::clamp(turn, -kMaxHingeTurn, kMaxHingeTurn);
+  return std::cos(turn) * normal + std::sin(turn) * along;
+}
+
 void orient_rings(const Positions& position, const Weave& weave, const RingGeometry& ring,
                   const OrientationSettings& settings, Orientations& orientation) {
   const int n = weave.size();
@@ -130,20 +169,27 @@ void orient_rings(const Positions& position, const Weave& weave, const RingGeome
   const double min_ratio = ring.min_link_distance() / settings.max_link_distance;
   const double extended =
       settings.extended_angle > 0.0 ? settings.extended_angle : paper_extended_swivel(ring);
+  // neighbour vectors along both grid axes (X from (i-1,j)->(i+1,j), Z from (i,j-1)->(i,j+1)),
+  // unit, with the neighbour spacing along each
+  std::vector<GridAxes> axes(n);
   for (int i = 0; i < n; ++i) {
     const auto& nb = weave.neighbours[i];
-    const Quat old = quat_at(orientation, i);
-    // neighbour vectors along both grid axes (X from (i-1,j)->(i+1,j), Z from (i,j-1)->(i,j+1));
-    // a ring with neighbours on one axis only keeps its old direction for the other
-    Vec3 x, z;
-    double dx = 0.0, dz = 0.0;
-    const bool has_x = axis_vector(position, i, nb[0], nb[1], x, dx);
-    const bool has_z = axis_vector(position, i, nb[2], nb[3], z, dz);
-    if (!has_x && !has_z) continue;
-    if (!has_x) x = old * Vec3::UnitX(), dx = dz;
-    if (!has_z) z = old * Vec3::UnitZ(), dz = dx;
-    const Vec3 xn = has_x ? Vec3(x / (nb[0] >= 0 && nb[1] >= 0 ? 2.0 * dx : dx)) : x.normalized();
-    const Vec3 zn = has_z ? Vec3(z / (nb[2] >= 0 && nb[3] >= 0 ? 2.0 * dz : dz)) : z.normalized();
+    GridAxes& g = axes[i];
+    g.has_x = axis_vector(position, i, nb[0], nb[1], g.x, g.dx);
+    g.has_z = axis_vector(position, i, nb[2], nb[3], g.z, g.dz);
+    if (g.has_x) g.x /= nb[0] >= 0 && nb[1] >= 0 ? 2.0 * g.dx : g.dx;
+    if (g.has_z) g.z /= nb[2] >= 0 && nb[3] >= 0 ? 2.0 * g.dz : g.dz;
+  }
+  for (int i = 0; i < n; ++i) {
+    const auto& nb = weave.neighbours[i];
+    // a ring with neighbours on one axis only (a sheet's corner) borrows the other axis from a
+    // neighbour that has it: taken from positions alone, never from its own last orientation,
+    // which would compose last step's swivel again every step
+    GridAxes g = axes[i];
+    if (!g.has_x && !g.has_z) continue;
+    if (!borrow_axis(axes, nb, g)) continue;
+    const Vec3 xn = g.x, zn = g.z;
+    const double dx = g.dx, dz = g.dz;
     const Vec3 normal = zn.cross(xn);
     const double sine = normal.norm();
     if (sine < 1e-6) continue;  // x and z (anti)parallel: degenerate, keep the old orientation
@@ -157,8 +203,14 @@ void orient_rings(const Positions& position, const Weave& weave, const RingGeome
       // In the ring's own frame that axis is (dx, 0, -dz) / |.|: the swivel composes on the right
       const double ratio = 0.5 * (dx + dz) / settings.max_link_distance;
       const double theta = weave.parity[i] * swivel_angle(ratio, min_ratio, extended);
-      const double half_sin = std::sin(0.5 * theta) / std::hypot(dx, dz);
-      q = q * Quat(std::cos(0.5 * theta), half_sin * dx, 0.0, -half_sin * dz);
+      const Vec3 pull = settings.pull ? Vec3(settings.pull->col(i)) : Vec3::Zero();
+      if (pull.squaredNorm() > 0.0) {
+        // the hinge from the pins (paper §6): the pull in the ring's own frame
+        q = q * Quat(Eigen::AngleAxisd(theta, swivel_hinge(basis.transpose() * pull)));
+      } else {
+        const double half_sin = std::sin(0.5 * theta) / std::hypot(dx, dz);
+        q = q * Quat(std::cos(0.5 * theta), half_sin * dx, 0.0, -half_sin * dz);
+      }
     }
     store(orientation, i, q.normalized());
   }

@@ -35,7 +35,23 @@ struct OrientationSettings {
   double max_link_distance = 0.0;  // m, the model's maximum neighbour distance
   bool swivel = true;              // 4in1: swivel rings to form the weave
   double extended_angle = 0.0;     // rad, swivel at full extension; the paper's a/c when 0
+  // (3, n) m, the direction the weave holds each ring from (pull_toward_pins): a 4-in-1 ring's
+  // hinge turns toward it (swivel_hinge); null, or a zero column, keeps the hinge the neighbour
+  // distances give
+  const Positions* pull = nullptr;
 };
+
+// rad, the largest turn of a hinge from the row normal: 15 degrees, about how far the rigid
+// rings of a corner-hung sheet turn theirs in the ODE reference (10 degrees on average, up to
+// 25 at the top corners); a turn to the full pull (45 degrees) matches them worse
+inline constexpr double kMaxHingeTurn = 0.2617993877991494;
+
+// the hinge a 4-in-1 ring swivels about, unit, in its eq. (1) frame (neighbours near local X and
+// Z, axis Y): the row normal (1, 0, -1) / sqrt(2) turned toward the in-plane direction of `pull`
+// (local) by the angle between them, at most kMaxHingeTurn either way. The hinge keeps the row
+// normal's side, so the weave's parity still decides which way a ring leans: the rows of 4-in-1
+// cannot trade places, the load only turns them a little
+Vec3 swivel_hinge(const Vec3& pull);
 
 // orientations of every ring from the ring centres (paper §4). `orientation` holds the previous
 // orientations on entry (used only where a ring lacks neighbours along a grid direction) and the

@@ -3,13 +3,20 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <utility>
 
 #include "core/colliders.hpp"
 #include "core/constraints.hpp"
+#include "core/damping.hpp"
 
 namespace chainmail {
 namespace {
+
+// per-ring values as an Eigen vector, without a copy
+Eigen::Map<const Eigen::VectorXd> view(const std::vector<double>& values) {
+  return {values.data(), static_cast<Eigen::Index>(values.size())};
+}
 
 // the weave's links as edge constraints, grouped by a greedy edge colouring: within one colour no
 // two edges share a ring, so consecutive solves do not wait on each other's square root and
@@ -52,11 +59,20 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   model_.inverse_mass.resize(n);
   for (int i = 0; i < n; ++i) model_.inverse_mass[i] = 1.0 / model_.mass[i];
   for (int pinned : resolve_pins(scene, weave)) model_.inverse_mass[pinned] = 0.0;
-  const double max_length = settings.max_link_fraction * ring.inner_diameter();
-  model_.edges = colour_ordered_edges(weave, ring.min_link_distance(), max_length);
-  model_.extended_swivel = settings.swivel_fit            ? fitted_extended_swivel(ring, max_length)
+  const double fraction_length = settings.max_link_fraction * ring.inner_diameter();
+  model_.extended_swivel = settings.swivel_fit ? fitted_extended_swivel(ring, fraction_length)
                            : settings.swivel_extended > 0 ? settings.swivel_extended
                                                           : paper_extended_swivel(ring);
+  // the link length from the ring geometry, aimed a tolerance short of it so that a solve
+  // converged within the tolerance never stretches a link beyond it
+  const double geometric =
+      settings.link_geometry ? weave_max_link_distance(weave, ring, model_.extended_swivel) : 0.0;
+  const double max_length =
+      geometric > 0.0 ? (1.0 - settings.tolerance) * geometric : fraction_length;
+  // neighbours as close as the weave's geometry lets them come (the wire thickness without it)
+  const double closest = build_compression_limits();
+  model_.edges = colour_ordered_edges(weave, closest, max_length);
+  model_.longest_link = max_length;
   // breadth-first depth from the pins orders the outward pass
   {
     std::vector<int> depth(n, -1), queue;
@@ -81,14 +97,14 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
                        return depth[x.b] != depth[y.b] ? depth[x.b] < depth[y.b] : x.b < y.b;
                      });
   }
+  if (settings.swivel_from_pins && settings.swivel && weave.type == WeaveType::four_in_one) {
+    model_.pin_paths = pin_paths(weave, resolve_pins(scene, weave));
+  }
+  model_.rigid = rigid_freedom(weave.rest_position, view(model_.inverse_mass));
   model_.colliders = scene.colliders;
   model_.gravity = scene.gravity;
   model_.self_contact = scene.self_contact;
   model_.repulsion_range = settings.repulsion_fraction * ring.inner_diameter();
-  model_.contact_margin =
-      settings.contact_margin > 0.0
-          ? settings.contact_margin
-          : ring.wire_radius + ring.centre_radius * std::sin(paper_extended_swivel(ring));
 
   // state at rest
   state_ = PlausibleState{};
@@ -108,19 +124,26 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
 }
 
 void PlausibleSim::step(double dt) {
-  // external forces: gravity, and repulsion between non-neighbours when self-contact is on
+  const bool contacts = model_.self_contact && state_.position.cols() > 1;
+  const bool spring = model_.settings.repulsion_spring;
+  // external forces: gravity, and the repulsion spring between non-neighbours when chosen
   accumulate_forces();
+  if (contacts && spring) {
+    auto scope = profile_.scope("self_contact");
+    refresh_contact_candidates();
+    add_repulsion_forces();
+  }
   // integrate: symplectic Euler prediction of the new positions
   integrate(dt);
-  // Provot edge constraints, interleaved with collider projection when the scene has colliders
-  for (int it = 0; it < model_.settings.iterations; ++it) {
-    solve_constraints();
-    if (!model_.colliders.empty()) collide();
+  // candidate pairs near the predicted positions, for the minimum distance in the sweeps
+  if (contacts && !spring) {
+    auto scope = profile_.scope("self_contact");
+    refresh_contact_candidates();
   }
-  if (model_.settings.shock_propagation && !model_.outward.empty()) {
-    propagate_from_pins();
-    if (!model_.colliders.empty()) collide();
-  }
+  // outward pass from the pins, then Provot edge constraints, minimum distances between
+  // non-neighbours and colliders, swept together until converged
+  solve_positions();
+  profile_.record_residual(state_.residual, model_.settings.tolerance * model_.longest_link);
   // velocities from the constrained motion (paper §3), collider friction, damping
   update_velocities(dt);
   // ring orientation from the neighbour vectors (paper §4)
@@ -132,10 +155,9 @@ void PlausibleSim::accumulate_forces() {
   auto scope = profile_.scope("forces");
   const int n = static_cast<int>(state_.position.cols());
   for (int i = 0; i < n; ++i) state_.force.col(i) = model_.mass[i] * model_.gravity;
-  if (!model_.self_contact || n < 2) return;
+}
 
-  auto repulsion = profile_.scope("self_contact");
-  refresh_contact_candidates();
+void PlausibleSim::add_repulsion_forces() {
   const double range = model_.repulsion_range;
   const double k = model_.settings.repulsion_stiffness;
   for (const RingPair& pair : state_.contact_candidates) {
@@ -165,6 +187,7 @@ void PlausibleSim::refresh_contact_candidates() {
   hash_.for_each_pair(state_.position, radius, [&](int i, int j) {
     const auto& nb = weave_.neighbours[i];
     if (nb[0] == j || nb[1] == j || nb[2] == j || nb[3] == j) return;  // linked: constraints
+    if (is_diagonal(i, j)) return;  // sharing two neighbours: a minimum distance of its own
     state_.contact_candidates.push_back({i, j});
   });
   state_.contact_anchor = state_.position;
@@ -174,6 +197,9 @@ void PlausibleSim::refresh_contact_candidates() {
 void PlausibleSim::integrate(double dt) {
   auto scope = profile_.scope("integrate");
   const int n = static_cast<int>(state_.position.cols());
+  // a ring that starts the step inside a collider's margin (a scene placed it there, or its torus
+  // turned to reach farther) moves out before the step, so the move makes no velocity
+  if (!model_.colliders.empty()) collide();
   state_.previous = state_.position;
   for (int i = 0; i < n; ++i) {
     const double w = model_.inverse_mass[i];
@@ -184,73 +210,9 @@ void PlausibleSim::integrate(double dt) {
   state_.contact_push.setZero();
 }
 
-void PlausibleSim::solve_constraints() {
-  auto scope = profile_.scope("constraints");
-  Positions& p = state_.position;
-  const std::vector<double>& w = model_.inverse_mass;
-  for (const EdgeConstraint& e : model_.edges) {
-    Vec3 corr0, corr1;
-    if (solve_edge_constraint(p.col(e.a), w[e.a], p.col(e.b), w[e.b], e.min_length, e.max_length,
-                              corr0, corr1)) {
-      p.col(e.a) += corr0;
-      p.col(e.b) += corr1;
-    }
-  }
-}
-
-void PlausibleSim::propagate_from_pins() {
-  auto scope = profile_.scope("propagate");
-  Positions& p = state_.position;
-  // edges are grouped by their far ring (sorted by depth); a ring with two parents (4-in-1) takes
-  // the mean of the projections onto each parent's sphere, so parents that are too far apart to
-  // satisfy both pull it to a compromise instead of making it jump from one to the other
-  const auto& edges = model_.outward;
-  for (size_t first = 0; first < edges.size();) {
-    size_t last = first;
-    while (last < edges.size() && edges[last].b == edges[first].b) ++last;
-    const int ring = edges[first].b;
-    if (model_.inverse_mass[ring] != 0.0) {
-      for (int pass = 0; pass < 2; ++pass) {
-        Vec3 sum = Vec3::Zero();
-        int count = 0;
-        for (size_t k = first; k < last; ++k) {
-          Vec3 corr0, corr1;
-          if (solve_edge_constraint(p.col(edges[k].a), 0.0, p.col(ring), 1.0, edges[k].min_length,
-                                    edges[k].max_length, corr0, corr1)) {
-            sum += corr1;
-            ++count;
-          }
-        }
-        if (count == 0) break;
-        p.col(ring) += sum / static_cast<double>(last - first);
-      }
-    }
-    first = last;
-  }
-}
-
-void PlausibleSim::collide() {
-  auto scope = profile_.scope("colliders");
-  const int n = static_cast<int>(state_.position.cols());
-  for (int i = 0; i < n; ++i) {
-    if (model_.inverse_mass[i] == 0.0) continue;
-    for (const Collider& collider : model_.colliders) {
-      ColliderContact contact;
-      if (!collider_contact(collider, state_.position.col(i), model_.contact_margin, contact)) {
-        continue;
-      }
-      state_.position.col(i) += contact.depth * contact.normal;
-      state_.contact_push[i] += contact.depth;
-      state_.contact_normal.col(i) = contact.normal;
-      state_.contact_friction[i] = collider.friction;
-    }
-  }
-}
-
 void PlausibleSim::update_velocities(double dt) {
   auto scope = profile_.scope("velocity");
   const int n = static_cast<int>(state_.position.cols());
-  const double keep = std::max(0.0, 1.0 - model_.settings.damping * dt);
   for (int i = 0; i < n; ++i) {
     if (model_.inverse_mass[i] == 0.0) {
       state_.velocity.col(i).setZero();
@@ -265,7 +227,14 @@ void PlausibleSim::update_velocities(double dt) {
       const double limit = state_.contact_friction[i] * state_.contact_push[i] / dt;
       if (speed > 0.0) v -= tangential * std::min(1.0, limit / speed);
     }
-    state_.velocity.col(i) = keep * v;
+    state_.velocity.col(i) = v;
+  }
+  const double fraction = std::min(1.0, model_.settings.damping * dt);
+  if (model_.settings.damp_rigid) {
+    state_.velocity *= 1.0 - fraction;
+  } else {
+    damp_toward_rigid(model_.rigid, state_.position, view(model_.mass), view(model_.inverse_mass),
+                      fraction, state_.velocity);
   }
 }
 
@@ -275,7 +244,29 @@ void PlausibleSim::orient() {
   settings.max_link_distance = model_.settings.max_link_fraction * model_.ring.inner_diameter();
   settings.swivel = model_.settings.swivel;
   settings.extended_angle = model_.extended_swivel;
+  if (!model_.pin_paths.order.empty()) {
+    pull_toward_pins(model_.pin_paths, state_.position, state_.pull);
+    settings.pull = &state_.pull;
+  }
   orient_rings(state_.position, weave_, model_.ring, settings, state_.orientation);
+  // the ring axes the colliders see follow the orientations a fraction per step: a torus's reach
+  // into a collider moves its centre, which turns its neighbours; followed at once, rings on a
+  // floor lift and turn each other without end
+  const Orientations& o = state_.orientation;
+  const int n = static_cast<int>(o.cols());
+  // a sheet at rest on a floor settles for 0.1 to 0.25; from 0.3 (0.5 with the paper's swivel
+  // and rule, which settle only after a burst) the loop grows from round-off into bursts of motion
+  constexpr double follow = 0.2;
+  const bool first = state_.contact_axis.cols() != n;
+  if (first) state_.contact_axis.resize(3, n);
+  for (int i = 0; i < n; ++i) {
+    const Vec3 axis = Quat(o(0, i), o(1, i), o(2, i), o(3, i)) * Vec3::UnitY();
+    const Vec3 old = state_.contact_axis.col(i);
+    // the axis's sign is arbitrary: follow it from the side the old one is on
+    const Vec3 target = !first && axis.dot(old) < 0.0 ? Vec3(-axis) : axis;
+    state_.contact_axis.col(i) =
+        first ? target : Vec3((old + follow * (target - old)).normalized());
+  }
 }
 
 void PlausibleSim::frame(RingFrame& out) const {

@@ -6,9 +6,13 @@
 
 #include <vector>
 
+#include "core/damping.hpp"
 #include "core/frame.hpp"
+#include "core/link_length.hpp"
 #include "core/orientation.hpp"
+#include "core/pin_paths.hpp"
 #include "core/profile.hpp"
+#include "core/projection.hpp"
 #include "core/scene.hpp"
 #include "core/spatial_hash.hpp"
 #include "core/weave.hpp"
@@ -16,23 +20,54 @@
 namespace chainmail {
 
 struct PlausibleSettings {
-  int iterations = 10;                // constraint sweeps per step
-  double max_link_fraction = 0.95;    // effective inner diameter / inner diameter (paper §3)
-  double damping = 5.0;               // 1/s, velocity drag (0.5 lets a 100-row curtain whip)
-  double repulsion_fraction = 0.7;    // repulsion range / inner diameter
-  double repulsion_stiffness = 10.0;  // N/m
+  // constraint sweeps (edges, minimum distances, colliders in one Gauss-Seidel sweep) run until
+  // the largest violation a sweep meets is below tolerance * the longest link, at most iterations;
+  // then Newton steps on the edges and colliders together (a sparse direct solve each, at most
+  // newton_steps) remove what the sweeps left
+  int iterations = 10;
+  double tolerance = 1e-3;
+  int newton_steps = 30;
+  // the links' largest length from the ring geometry, for the two rings as the model turns them at
+  // full extension (exact circle-circle distance); where the geometry gives none (4-in-1 at the
+  // paper's swivel: turned nearly into one plane, the rings cannot link without touching), and
+  // without link_geometry, the paper's effective inner diameter max_link_fraction * ID
+  bool link_geometry = true;
+  double max_link_fraction = 0.95;
+  // 1/s: each step pulls velocities a fraction damping * dt toward the rigid motion that fits the
+  // free rings best, so falling or turning as a whole is not slowed (0.5 lets a 100-row curtain
+  // whip)
+  double damping = 5.0;
+  bool damp_rigid = false;          // damp all motion instead (a drag that also slows free fall)
+  double repulsion_fraction = 0.7;  // repulsion range / inner diameter
+  // non-neighbours closer than the range are pushed apart to it in the constraint sweeps (a
+  // minimum distance, stable at any dt); repulsion_spring: the paper's spring that all rings emit
+  // on each other instead, k (range - d), integrated explicitly with gravity
+  bool repulsion_spring = false;
+  double repulsion_stiffness = 10.0;  // N/m, the spring's
   // candidate repulsion pairs are gathered within range * (1 + contact_skin) and kept until some
   // ring has moved half the skin (a Verlet list); 0 rebuilds from the spatial hash every step
   double contact_skin = 0.3;
-  double contact_margin = 0.0;   // m, collider skin around a ring centre; 0 = a + c sin(a/c)
+  // m, distance kept between a ring centre and a collider; 0 = the torus's own extent along the
+  // collider normal, a + c sqrt(1 - (axis . n)^2), from the ring's orientation
+  double contact_margin = 0.0;
   bool swivel = true;            // paper §4 swivel (4in1)
   double swivel_extended = 0.0;  // rad, swivel at full extension; 0 = the paper's a/c
   // take the swivel at full extension from the ring geometry (fitted_extended_swivel) instead
-  bool swivel_fit = false;
-  // after the sweeps, one pass outward from the pins that moves only the ring farther from a pin
+  bool swivel_fit = true;
+  // before the sweeps, one pass outward from the pins that moves only the ring farther from a pin
   // (Provot's fixed-end rule; shock propagation): removes the stretch a hanging sheet accumulates
-  // when Gauss-Seidel sweeps alone would need O(rows^2) iterations
-  bool shock_propagation = true;
+  // when Gauss-Seidel sweeps alone would need O(rows^2) iterations. Off by default: the Newton
+  // steps converge without it, and its one-sided moves bias the shape (a catenary sags 5 % less)
+  bool shock_propagation = false;
+  // 4-in-1: how close neighbours, and rings that share two neighbours (i +- 1, j +- 1), can come,
+  // from the ring geometry (core/weave_limits), enforced in the sweeps; off: the paper's rule,
+  // neighbours as close as the wire thickness and the sheet never compressed along both axes
+  bool compression_limits = true;
+  // 4-in-1: each ring's swivel hinge turns toward the pins it hangs from, the direction propagated
+  // from the pins through the weave (core/pin_paths; paper §6), so a sheet hung from its corners
+  // leans along the diagonals; off, or without pins: the row normal (weighted by the neighbour
+  // distances) everywhere
+  bool swivel_from_pins = true;
 };
 
 // one Provot edge: a plain record, solved by solve_edge_constraint
@@ -48,12 +83,16 @@ struct PlausibleModel {
   std::vector<double> mass;             // (n) kg
   std::vector<double> inverse_mass;     // (n) 1/kg, 0 for pinned rings
   std::vector<EdgeConstraint> edges;    // (m) neighbour links
+  double longest_link = 0.0;            // m, the largest max_length: the solver's length scale
   std::vector<EdgeConstraint> outward;  // edges reachable from a pin, a = nearer the pin, by depth
+  // rings that share two neighbours (4-in-1 with compression_limits), kept within their bounds
+  std::vector<EdgeConstraint> diagonals;
+  PinPaths pin_paths;  // 4-in-1 with swivel_from_pins: the rings breadth-first from the pins
   std::vector<Collider> colliders;
   Vec3 gravity = Vec3::Zero();  // m/s^2
+  RigidFreedom rigid;           // rigid motions the pins leave the sheet (damping spares them)
   bool self_contact = true;
   double repulsion_range = 0.0;  // m
-  double contact_margin = 0.0;   // m
   double extended_swivel = 0.0;  // rad, swivel at full extension (a/c, the knob, or fitted)
   PlausibleSettings settings;
 };
@@ -66,6 +105,8 @@ struct PlausibleState {
   Positions previous;                // (3, n) m, positions at the start of the step
   Positions force;                   // (3, n) N, accumulated external + repulsion
   Orientations orientation;          // (4, n) w, x, y, z
+  Positions pull;                    // (3, n) m, toward the pins each ring hangs from (pin_paths)
+  Positions contact_axis;            // (3, n) unit, ring axes as the colliders see them
   Eigen::VectorXd contact_push;      // (n) m, collider push-out this step (0: no contact)
   Positions contact_normal;          // (3, n) unit, last collider normal this step
   Eigen::VectorXd contact_friction;  // (n) Coulomb coefficient of that collider
@@ -73,6 +114,11 @@ struct PlausibleState {
   std::vector<RingPair> contact_candidates;  // (k) i < j
   Positions contact_anchor;                  // (3, n) m, positions when the list was built
   long long contact_rebuilds = 0;            // lists built so far
+  // the last step's constraint solve: sweeps and Newton steps run, and the largest violation
+  // left (the last sweep's, or the edges' and colliders' after the Newton steps)
+  int sweeps = 0;
+  int newton_steps = 0;
+  double residual = 0.0;  // m
 };
 
 class PlausibleSim {
@@ -90,11 +136,28 @@ class PlausibleSim {
 
  private:
   void accumulate_forces();
+  void add_repulsion_forces();
   void refresh_contact_candidates();
   void integrate(double dt);
-  void solve_constraints();
+  void solve_positions();
+  bool solves_contacts() const;
+  // Newton steps on the edges and colliders until the largest violation is below tolerance, m
+  void solve_together(double tolerance);
+  // rows of the constraints violated or within `near` of their bound; the largest violation, m
+  double edge_rows(double near, std::vector<ProjectionRow>& rows) const;
+  double contact_rows(double near, std::vector<ProjectionRow>& rows) const;
+  double collider_rows(double near, std::vector<ProjectionRow>& rows);
+  // one sweep each; they return the largest violation they met, m
+  double solve_constraints();
+  double solve_contacts();
+  double solve_diagonals();
+  // the diagonal records and the neighbours' closest approach (core/plausible_weave.cpp), m
+  double build_compression_limits();
+  bool is_diagonal(int a, int b) const;
+  double collide();
+  // m, how far ring's centre must stay from a collider with outward normal n
+  double collider_margin(int ring, const Vec3& normal) const;
   void propagate_from_pins();
-  void collide();
   void update_velocities(double dt);
   void orient();
 
@@ -102,6 +165,7 @@ class PlausibleSim {
   PlausibleModel model_;
   PlausibleState state_;
   SpatialHash hash_;
+  Projection projection_;  // the Newton steps' factorisation, kept between steps
   StageProfile profile_;
 };
 

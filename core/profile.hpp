@@ -15,6 +15,15 @@ struct StageStats {
   double seconds = 0.0;
 };
 
+// the constraint solve's convergence over a run, for a backend that solves to a tolerance
+struct ResidualStats {
+  long long steps = 0;        // steps whose solve reported a residual
+  long long unconverged = 0;  // steps that ended above the tolerance (iteration caps reached)
+  double last = 0.0;          // m, the last step's largest remaining violation
+  double max = 0.0;           // m, the largest over the run
+  double tolerance = 0.0;     // m, what a converged step stays below
+};
+
 class StageProfile {
  public:
   // time one stage: `auto scope = profile.scope("colliders");`
@@ -36,10 +45,25 @@ class StageProfile {
 
   Scope scope(const std::string& stage) { return Scope(stages_[stage]); }
   const std::map<std::string, StageStats>& stages() const { return stages_; }
-  void clear() { stages_.clear(); }
+
+  // one step's final residual against its tolerance
+  void record_residual(double residual, double tolerance) {
+    residual_.steps += 1;
+    if (residual > tolerance) residual_.unconverged += 1;
+    residual_.last = residual;
+    residual_.max = residual > residual_.max ? residual : residual_.max;
+    residual_.tolerance = tolerance;
+  }
+  const ResidualStats& residual() const { return residual_; }
+
+  void clear() {
+    stages_.clear();
+    residual_ = ResidualStats{};
+  }
 
  private:
   std::map<std::string, StageStats> stages_;
+  ResidualStats residual_;
 };
 
 }  // namespace chainmail

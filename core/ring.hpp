@@ -2,6 +2,9 @@
 // Local frame: the ring lies in the local X/Z plane, its axis (normal) is local +Y.
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "core/types.hpp"
 
 namespace chainmail {
@@ -35,5 +38,16 @@ Vec3 centre_circle_point(const Vec3& centre, const Quat& orientation, double c, 
 inline Vec3 ring_axis(const Quat& orientation) {
   return orientation * Vec3::UnitY();
 }
+
+// the ring's surface as triangles in its local frame, for drawing and for exported meshes:
+// `around` segments along the ring (u), `across` around the wire (v); the seams are duplicated so
+// that indices stay simple
+struct RingSurface {
+  std::vector<float> position;       // (3 * vertices) m
+  std::vector<float> normal;         // (3 * vertices) unit, outward
+  std::vector<std::uint32_t> index;  // (3 * triangles) counter-clockwise seen from outside
+  int vertices() const { return static_cast<int>(position.size() / 3); }
+};
+RingSurface ring_surface(double wire_radius, double centre_radius, int around, int across);
 
 }  // namespace chainmail

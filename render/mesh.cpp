@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/ring.hpp"
+
 namespace chainmail::render {
 namespace {
 
@@ -120,30 +122,16 @@ void add_cylinder(SceneMeshBuilder& b, const Vector3d& center, double radius, do
 }  // namespace
 
 Mesh torus_mesh(double wire_radius, double centre_radius, int segments_u, int segments_v) {
+  const RingSurface surface = ring_surface(wire_radius, centre_radius, segments_u, segments_v);
   Mesh mesh;
   mesh.stride = 6;
-  const double a = wire_radius, c = centre_radius;
-  // (segments + 1)^2 vertices: the seams are duplicated so that indices stay simple
-  for (int i = 0; i <= segments_u; ++i) {
-    const double u = 2.0 * kPi * i / segments_u;
-    for (int k = 0; k <= segments_v; ++k) {
-      const double v = 2.0 * kPi * k / segments_v;
-      const Vector3d normal(std::cos(v) * std::cos(u), std::sin(v), std::cos(v) * std::sin(u));
-      const Vector3d position((c + a * std::cos(v)) * std::cos(u), a * std::sin(v),
-                              (c + a * std::cos(v)) * std::sin(u));
-      push(mesh.vertices, position);
-      push(mesh.vertices, normal);
-    }
+  for (int v = 0; v < surface.vertices(); ++v) {
+    const float* position = surface.position.data() + 3 * v;
+    const float* normal = surface.normal.data() + 3 * v;
+    mesh.vertices.insert(mesh.vertices.end(), position, position + 3);
+    mesh.vertices.insert(mesh.vertices.end(), normal, normal + 3);
   }
-  // (u, v), (u, v+1), (u+1, v) is counter-clockwise seen from outside the tube
-  const int row = segments_v + 1;
-  for (int i = 0; i < segments_u; ++i) {
-    for (int k = 0; k < segments_v; ++k) {
-      const auto p00 = static_cast<std::uint32_t>(i * row + k), p01 = p00 + 1;
-      const auto p10 = static_cast<std::uint32_t>(p00 + row), p11 = p10 + 1;
-      mesh.indices.insert(mesh.indices.end(), {p00, p01, p10, p10, p01, p11});
-    }
-  }
+  mesh.indices = surface.index;
   return mesh;
 }
 
@@ -260,10 +248,12 @@ Mesh scene_mesh(const Scene& scene, const Vector3d& origin, const Vector3d& focu
     }
   }
   if (scene.support) {
-    // the drape table: a thin disk whose top is the support's centre height
-    const double thickness = 0.02 * scene.support->radius;
+    // the drape table: a thin disk whose top is the support's centre height, lifted by a hair
+    // (far below a wire's radius, far above the depth buffer's resolution) so that it never
+    // shares a plane with the top of a collider it rests on and fights it for depth
+    const double thickness = 0.02 * scene.support->radius, lift = 1e-3 * scene.support->radius;
     b.color = {0.52, 0.4, 0.28, 0.0};
-    add_cylinder(b, scene.support->center - Vector3d(0.0, 0.5 * thickness, 0.0),
+    add_cylinder(b, scene.support->center + Vector3d(0.0, lift - 0.5 * thickness, 0.0),
                  scene.support->radius, 0.5 * thickness);
   }
   return b.mesh;

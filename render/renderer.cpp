@@ -61,7 +61,8 @@ class GlRenderer final : public Renderer {
     std::vector<const RingFrame*> frames;
     for (const Panel& panel : panels) frames.push_back(panel.frame);
     const SharedView view =
-        shared_view(scene, frames, static_cast<double>(settings_.width) / settings_.height);
+        shared_view(scene, frames, static_cast<double>(settings_.width) / settings_.height,
+                    settings_.view_from);
     // float positions relative to the camera target keep precision far from the world origin
     origin_ = view.origin;
     view_projection_ = view.camera.view_projection(origin_);

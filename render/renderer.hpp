@@ -6,6 +6,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -31,6 +32,8 @@ struct RenderSettings {
   bool live_blur = false;  // blur the reflection per fragment (13 taps per axis, slow on
                            // llvmpipe) instead of once into a prefiltered cubemap at start-up
   bool labels = true;      // label strip at the top of every panel
+  // automatic framing from this direction (towards the eye) instead of the scene's camera
+  std::optional<Eigen::Vector3d> view_from;
 
   // shared libraries to load; empty: the usual sonames (libOSMesa.so.8, ... / libEGL.so.1)
   std::string osmesa_library;

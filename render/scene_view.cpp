@@ -11,13 +11,15 @@ namespace {
 using Eigen::Vector3d;
 constexpr double kPi = std::numbers::pi;
 
-// the automatic camera: look down ~30 degrees from the front and back off until every corner of
-// the (ring-padded) box is inside the view with a margin: for a corner at (x, y) across and z
-// towards the camera, depth d - z must reach |x| / tan(fov_x / 2) and |y| / tan(fov_y / 2)
+// the automatic camera: look at the box from `from` (towards the eye) and back off until every
+// corner of the (ring-padded) box is inside the view with a margin: for a corner at (x, y) across
+// and z towards the camera, depth d - z must reach |x| / tan(fov_x / 2) and |y| / tan(fov_y / 2)
 void frame_automatically(CameraView& view, const Bounds& bounds, const Vector3d& center,
-                         double radius, double ring_extent) {
-  const Vector3d to_eye = Vector3d(0.0, 0.6, 1.0).normalized();
-  const Vector3d across = Vector3d::UnitY().cross(to_eye).normalized();
+                         double radius, double ring_extent, const Vector3d& from) {
+  const Vector3d to_eye = from.normalized();
+  Vector3d across = Vector3d::UnitY().cross(to_eye);
+  // straight down: image right is world +X (make_camera picks the matching up)
+  across = across.norm() < 1e-9 ? Vector3d(Vector3d::UnitX()) : Vector3d(across.normalized());
   const Vector3d upward = to_eye.cross(across);
   const double margin = 0.92;
   const double tan_y = margin * std::tan(0.5 * view.fov_y_rad), tan_x = tan_y * view.aspect;
@@ -89,15 +91,17 @@ Bounds frame_bounds(const std::vector<const RingFrame*>& frames) {
   return bounds;
 }
 
-CameraView make_camera(const Scene& scene, const Bounds& bounds, double aspect) {
+CameraView make_camera(const Scene& scene, const Bounds& bounds, double aspect,
+                       const std::optional<Vector3d>& view_from) {
   CameraView view;
   view.aspect = aspect;
   view.fov_y_rad = scene.camera.fov_deg * kPi / 180.0;
   const double ring_extent = scene.ring.centre_radius + scene.ring.wire_radius;
   const Vector3d center = bounds.empty() ? scene.weave.center : bounds.center();
   const double radius = std::max(bounds.radius(), 0.0) + ring_extent;
-  if (scene.camera.automatic) {
-    frame_automatically(view, bounds, center, radius, ring_extent);
+  if (view_from || scene.camera.automatic) {
+    frame_automatically(view, bounds, center, radius, ring_extent,
+                        view_from.value_or(kAutomaticViewFrom));
   } else {
     view.eye = scene.camera.position;
     view.target = scene.camera.target;
@@ -124,10 +128,10 @@ Eigen::Matrix3f sky_ray_basis(const CameraView& camera) {
 }
 
 SharedView shared_view(const Scene& scene, const std::vector<const RingFrame*>& frames,
-                       double aspect) {
+                       double aspect, const std::optional<Vector3d>& view_from) {
   const Bounds bounds = frame_bounds(frames);
   SharedView view;
-  view.camera = make_camera(scene, bounds, aspect);
+  view.camera = make_camera(scene, bounds, aspect, view_from);
   view.origin = view.camera.target;
   view.focus = bounds.empty() ? view.camera.target : bounds.center();
   view.fabric_radius =

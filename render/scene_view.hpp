@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -58,9 +59,14 @@ struct Bounds {
 };
 Bounds frame_bounds(const std::vector<const RingFrame*>& frames);
 
-// the scene's camera, or (scene.camera.automatic) one that frames `bounds` from slightly above
-// and in front; near and far planes from the bounds either way
-CameraView make_camera(const Scene& scene, const Bounds& bounds, double aspect);
+// where the automatic camera looks from (towards the eye): in front, about 30 degrees up
+inline const Eigen::Vector3d kAutomaticViewFrom(0.0, 0.6, 1.0);
+
+// the scene's camera, or (scene.camera.automatic, or `view_from` given) one that frames `bounds`
+// from the direction `view_from` (default kAutomaticViewFrom) with the scene's field of view;
+// near and far planes from the bounds either way
+CameraView make_camera(const Scene& scene, const Bounds& bounds, double aspect,
+                       const std::optional<Eigen::Vector3d>& view_from = std::nullopt);
 
 // the full-screen sky's ray directions: columns right * tan(fov_x / 2), up * tan(fov_y / 2),
 // forward, so that ndc (x, y, 1) maps to the world direction through that pixel
@@ -75,7 +81,8 @@ struct SharedView {
   float checker;           // ground checker tile: 1, 2 or 5 x 10^k up to fabric_radius / 2, m
 };
 SharedView shared_view(const Scene& scene, const std::vector<const RingFrame*>& frames,
-                       double aspect);
+                       double aspect,
+                       const std::optional<Eigen::Vector3d>& view_from = std::nullopt);
 
 // ---- culling and level of detail ----------------------------------------------------------------
 

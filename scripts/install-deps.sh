@@ -7,7 +7,7 @@ packages=(
   libgtest-dev libbenchmark-dev
   libbullet-dev libode-dev
   libosmesa6-dev libegl-dev libgl-dev libgles-dev libstb-dev
-  python3-matplotlib ffmpeg
+  python3-matplotlib python3-jsonschema python3-numpy ffmpeg
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -48,7 +48,7 @@ RunOptions run_options(const RunCommand& command, const Scene& scene) {
   check_reference_flag(command.reference);
   options.reference = command.reference;
   options.frame_csv = command.frames || scene.write_frames;
-  options.keep_stream = command.render;
+  options.keep_stream = command.render || !command.exports.empty();
   return options;
 }
 
@@ -60,6 +60,14 @@ void check_run_budget(const Scene& scene, const RunOptions& options, const Budge
   const double bytes_per_ring_sample =
       (options.frame_csv ? 90.0 : 0.0) + (options.keep_stream ? 56.0 : 0.0);
   check_budget(scene, estimate_run(scene, estimated, bytes_per_ring_sample), budget);
+}
+
+// refuse an export larger than its format can hold, before anything runs
+void check_export_size(const Scene& scene) {
+  const auto samples = static_cast<long long>(scene.duration / scene.sample_interval) + 2;
+  if (const std::string why = export_size_refusal(make_weave(scene.weave, scene.ring), samples);
+      !why.empty())
+    throw UsageError(scene.file + ": key 'sample_interval': --export: " + why);
 }
 
 // one line per backend, then where the results are
@@ -82,6 +90,8 @@ int run_command(const RunCommand& command) {
   RunOptions options = run_options(command, scene);
   check_run_budget(scene, options, command.budget);
   OutputOptions output;
+  output.exports = parse_export_formats(command.exports);
+  if (!output.exports.empty()) check_export_size(scene);
   if (command.render)
     output.render =
         make_render_writer(command.shader, command.material);  // checks GL + shaders first

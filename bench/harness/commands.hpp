@@ -39,6 +39,8 @@ struct RunCommand {
   bool progress = true;
   std::string cache_dir;  // "" = default_cache_dir(), "none" = no cache
   Budget budget;
+  // --export: gltf and/or npz, every backend's frames into export/<backend>.glb|.npz
+  std::vector<std::string> exports;
 };
 int run_command(const RunCommand& command);
 

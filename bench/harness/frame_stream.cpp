@@ -110,4 +110,13 @@ bool copy_stream(const std::string& from, const std::string& path) {
   return !ec;
 }
 
+FrameSequence stream_sequence(FrameReader reader) {
+  FrameSequence sequence;
+  sequence.count = reader.count();
+  sequence.read = [reader = std::move(reader)](std::size_t k, RingFrame& frame) {
+    return reader.read(k, frame);
+  };
+  return sequence;
+}
+
 }  // namespace chainmail

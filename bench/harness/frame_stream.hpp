@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -56,5 +57,13 @@ class FrameReader {
 
 // copy a finished stream to `path` through a temporary name and a rename; false on failure
 bool copy_stream(const std::string& from, const std::string& path);
+
+// one backend's sampled frames in time order, read one at a time (from a stream, or from the
+// frame CSVs of a saved run), so that what reads them needs memory for one frame only
+struct FrameSequence {
+  std::size_t count = 0;
+  std::function<bool(std::size_t k, RingFrame& frame)> read;  // false on a read error
+};
+FrameSequence stream_sequence(FrameReader reader);
 
 }  // namespace chainmail

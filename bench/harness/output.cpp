@@ -4,12 +4,14 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
 
+#include "bench/harness/frame_stream.hpp"
 #include "bench/harness/scene_file.hpp"
 #include "bench/harness/table_cells.hpp"
 #include "bench/harness/version.hpp"
@@ -100,6 +102,14 @@ nlohmann::json backend_entry(const BackendRun& b) {
     stages[stage] = {{"calls", stats.calls}, {"ms", 1e3 * stats.seconds}};
   }
   entry["stages"] = stages;
+  if (b.residual.steps > 0) {
+    const ResidualStats& r = b.residual;
+    entry["residual"] = {{"last", json_number(r.last)},
+                         {"max", json_number(r.max)},
+                         {"tolerance", r.tolerance},
+                         {"steps", r.steps},
+                         {"unconverged_steps", r.unconverged}};
+  }
   return entry;
 }
 
@@ -114,7 +124,8 @@ nlohmann::json summary_json(const SceneRun& run) {
                  {"count", run.weave.size()}};
   out["build"] = {{"version", chainmail_version()},
                   {"commit", chainmail_commit()},
-                  {"compiler", chainmail_build()},
+                  {"compiler", chainmail_compiler()},
+                  {"build_type", chainmail_build_type()},
                   {"threads", 1},
                   {"host_cores", std::thread::hardware_concurrency()}};
   if (run.reference_note) out["reference"] = *run.reference_note;
@@ -192,6 +203,17 @@ std::string frame_csv(const RingFrame& frame, const Weave& weave) {
   return out.str();
 }
 
+void round_as_csv(RingFrame& frame) {
+  const auto round = [](double& value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", value);
+    value = std::strtod(text, nullptr);
+  };
+  round(frame.t);
+  for (Eigen::Index k = 0; k < frame.position.size(); ++k) round(frame.position.data()[k]);
+  for (Eigen::Index k = 0; k < frame.orientation.size(); ++k) round(frame.orientation.data()[k]);
+}
+
 void write_run_folder(const SceneRun& run, const std::string& folder,
                       const OutputOptions& options) {
   fs::create_directories(folder);
@@ -212,6 +234,14 @@ void write_run_folder(const SceneRun& run, const std::string& folder,
   }
   write_file_atomic(folder + "/table.md", table_markdown(run));
   if (options.render && !run.interrupted) options.render(run, folder + "/images");
+  // exports at full precision, also of what an interrupted run finished
+  for (const BackendRun& b : run.runs) {
+    if (options.exports.empty() || b.stream.empty()) continue;
+    auto reader = FrameReader::open(b.stream, run.weave.size());
+    if (!reader) continue;
+    write_exports({run.scene, run.weave, b.name}, stream_sequence(std::move(*reader)),
+                  options.exports, folder + "/export");
+  }
   std::error_code ignored;
   fs::remove_all(folder + "/.streams", ignored);
 }

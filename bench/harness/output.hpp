@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/harness/export.hpp"
 #include "bench/harness/run.hpp"
 
 namespace chainmail {
@@ -21,6 +22,10 @@ std::string metrics_header();
 std::string metrics_row(const std::string& backend, const Sample& sample);
 std::string table_markdown(const SceneRun& run);
 std::string frame_csv(const RingFrame& frame, const Weave& weave);
+// the frame as the CSVs hold it: t (metrics.csv), positions and orientations (frame CSVs) rounded
+// to the 9 significant digits they are written with, so that a frame drawn by the run and one
+// read back from its files are the same numbers
+void round_as_csv(RingFrame& frame);
 
 // the number formatting every CSV uses (empty for NaN and inf: an absent or failed metric)
 std::string csv_number(double value);
@@ -32,10 +37,12 @@ nlohmann::json json_number(double value);
 struct OutputOptions {
   // draws images into <folder>/images from the runs' frame streams; empty = no rendering
   std::function<void(const SceneRun&, const std::string& images_folder)> render;
+  // every backend's frames into <folder>/export/<backend>.glb|.npz, from the frame streams
+  std::vector<ExportFormat> exports;
 };
 
-// summary.json, metrics.csv (from the rows streamed into <folder>/.streams), table.md and the
-// images, into `folder` (a staging folder); the streams are removed after
+// summary.json, metrics.csv (from the rows streamed into <folder>/.streams), table.md, the
+// images and the exports, into `folder` (a staging folder); the streams are removed after
 void write_run_folder(const SceneRun& run, const std::string& folder, const OutputOptions& options);
 
 }  // namespace chainmail

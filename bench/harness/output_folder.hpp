@@ -17,8 +17,9 @@ inline constexpr const char* kManifestName = ".chainmail-manifest.json";
 
 class OutputFolder {
  public:
-  // `command`: run, sweep, stability or bench (a folder is only replaced by the command that made
-  // it); `force`: a foreign *empty* folder may be replaced; `flag`: how messages name the path.
+  // `command`: run, sweep, stability, bench or render (a folder is only replaced by the command
+  // that made it); `force`: a foreign *empty* folder may be replaced; `flag`: how messages name
+  // the path.
   // Throws SceneError (exit 2) naming the path and what is wrong with it.
   static OutputFolder claim(const std::string& path, const std::string& command, bool force,
                             const std::string& flag = "--out");

@@ -13,6 +13,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "bench/harness/data_dir.hpp"
 #include "bench/harness/interrupt.hpp"
 
 extern char** environ;
@@ -62,11 +63,6 @@ int run_child(const std::vector<std::string>& argv, const std::string& log) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
-std::string source_dir() {
-  if (const char* env = std::getenv("CHAINMAIL_SOURCE_DIR")) return env;
-  return CHAINMAIL_SOURCE_DIR;
-}
-
 std::string plotting_python() {
   for (const char* candidate : {"/usr/bin/python3", "python3"}) {
     const std::string probe = std::string(candidate) + " -c 'import matplotlib' >/dev/null 2>&1";
@@ -83,7 +79,7 @@ bool make_plot(const std::string& script, const std::vector<std::string>& args) 
   }
   // one word at a time (appending, not `" " + word`, which GCC 12 misreads as an overlap)
   std::string command = python;
-  command.append(" ").append(shell_quote(source_dir() + "/bench/" + script));
+  command.append(" ").append(shell_quote(data_dir().plot_script(script)));
   for (const auto& a : args) command.append(" ").append(shell_quote(a));
   return std::system(command.c_str()) == 0;
 }

@@ -1,5 +1,5 @@
 // What the suites run outside this process: `chainmail run` children for sweep points, jobs in
-// parallel, the plot script from the source tree.
+// parallel, the plot script from the data folder (data_dir.hpp).
 #pragma once
 
 #include <functional>
@@ -18,13 +18,11 @@ void run_parallel(int count, int jobs, const std::function<void(int)>& job);
 // on as SIGTERM (so the child writes what it finished). Returns the exit status (-1: no start).
 int run_child(const std::vector<std::string>& argv, const std::string& log);
 
-// the source tree (scene files, plot scripts): $CHAINMAIL_SOURCE_DIR, else where this was built
-std::string source_dir();
-
 // a python interpreter with matplotlib for the plots ("" when none)
 std::string plotting_python();
 
-// runs bench/<script> with `args` through plotting_python(); false (with a note) when it cannot
+// runs the data folder's <script> with `args` through plotting_python(); false (with a note) when
+// it cannot
 bool make_plot(const std::string& script, const std::vector<std::string>& args);
 
 }  // namespace chainmail

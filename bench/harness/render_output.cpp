@@ -1,12 +1,17 @@
 #include "bench/harness/render_output.hpp"
 
 #include <stdlib.h>
+
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
 #include "backends/backend.hpp"
+#include "bench/harness/data_dir.hpp"
 #include "bench/harness/frame_stream.hpp"
+#include "bench/harness/interrupt.hpp"
+#include "bench/harness/output.hpp"
 #include "core/scene.hpp"
 #if CHAINMAIL_HAVE_RENDER
 #include "render/renderer.hpp"
@@ -14,79 +19,123 @@
 
 namespace chainmail {
 
+bool ffmpeg_available() {
+  return std::system("command -v ffmpeg >/dev/null 2>&1") == 0;
+}
+
+namespace {
+
+// the images joined into compare.mp4 at `fps` frames per second
+void write_movie(const std::string& folder, const ImageOptions& options) {
+  if (options.video == Video::never) return;
+  if (!ffmpeg_available()) {
+    std::fprintf(stderr,
+                 "render: ffmpeg is not installed, so no compare.mp4 (images/ are written)\n");
+    return;
+  }
+  char rate[32];
+  std::snprintf(rate, sizeof rate, "%g", options.fps);
+  const std::string command = std::string("ffmpeg -loglevel error -y -framerate ") + rate +
+                              " -i '" + folder +
+                              "/%05d.png' -pix_fmt yuv420p -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' '" +
+                              folder + "/compare.mp4'";
+  if (std::system(command.c_str()) != 0)
+    std::fprintf(stderr, "render: ffmpeg failed, no compare.mp4\n");
+}
+
+// the image's file name: its sample number, or its time for the one image of the last sample
+std::string image_name(std::size_t k, double t, bool last_only) {
+  char name[48];
+  if (last_only)
+    std::snprintf(name, sizeof name, "/t%.3fs.png", t);
+  else
+    std::snprintf(name, sizeof name, "/%05zu.png", k);
+  return name;
+}
+
+}  // namespace
+
 #if CHAINMAIL_HAVE_RENDER
-std::function<void(const SceneRun&, const std::string&)> make_render_writer(
-    const std::string& cloth_shader, const std::string& material, bool last_only) {
+ImageWriter make_image_writer(const ImageSettings& image) {
   // Mesa would keep a shader cache in the user's cache folder: nothing is written but what was
   // asked
   ::setenv("MESA_SHADER_CACHE_DISABLE", "true", /*overwrite=*/0);
   render::RenderSettings settings;
-  if (!material.empty()) settings.material = material;
+  settings.shader_dir = render_shader_dir();
+  settings.width = image.width, settings.height = image.height;
+  settings.samples = image.samples;
+  if (!image.material.empty()) settings.material = image.material;
   // the textured-cloth baseline shows a chainmail texture unless another shader is asked for
-  settings.cloth_shader = cloth_shader.empty() ? "texture" : cloth_shader;
+  settings.cloth_shader = image.cloth_shader.empty() ? "texture" : image.cloth_shader;
+  settings.view_from = image.view_from;
   std::shared_ptr<render::Renderer> renderer;
   try {
     renderer = render::Renderer::create(settings);  // GL context + every shader, checked up front
   } catch (const render::RenderError& e) {
-    throw SceneError(std::string("--render: ") + e.what());
+    throw SceneError(image.flag.empty() ? std::string(e.what()) : image.flag + ": " + e.what());
   }
-  return [renderer, last_only](const SceneRun& run, const std::string& folder) {
+  return [renderer](const Scene& scene, const Weave& weave, const std::vector<PanelFrames>& panels,
+                    const std::string& folder, const ImageOptions& options) {
     std::filesystem::create_directories(folder);
-    // every backend's frames, read back one sample at a time from its stream
-    struct Source {
-      const BackendRun* run;
-      FrameReader reader;
-      RingFrame frame;
-    };
-    std::vector<Source> sources;
-    size_t samples = 0;
-    for (const auto& b : run.runs) {
-      if (b.stream.empty()) continue;
-      auto reader = FrameReader::open(b.stream, run.weave.size());
-      if (!reader) continue;
-      samples = std::max(samples, reader->count());
-      sources.push_back({&b, std::move(*reader), RingFrame()});
-    }
-    // one image per sample (or the last only): every backend's frame at it, side by side
-    for (size_t k = last_only && samples ? samples - 1 : 0; k < samples; ++k) {
-      std::vector<render::Panel> panels;
-      for (auto& source : sources) {
-        if (!source.reader.read(std::min(k, source.reader.count() - 1), source.frame)) continue;
-        render::Panel panel;
-        panel.label = source.run->name;
-        panel.frame = &source.frame;
-        const BackendInfo* info = find_backend(source.run->name);
-        panel.as_cloth = info && info->cloth_surface;
-        panel.ms_per_step = source.run->ms_per_step();
-        panels.push_back(panel);
+    std::size_t samples = 0;
+    for (const PanelFrames& panel : panels) samples = std::max(samples, panel.frames.count);
+    std::vector<RingFrame> frames(panels.size());
+    int drawn = 0;
+    // one image per sample (or the last only): every panel's frame at it, side by side
+    for (std::size_t k = options.last_only && samples ? samples - 1 : 0; k < samples; ++k) {
+      if (options.stop_on_interrupt && interrupted()) break;
+      std::vector<render::Panel> drawn_panels;
+      double t = 0.0;
+      for (std::size_t p = 0; p < panels.size(); ++p) {
+        const FrameSequence& sequence = panels[p].frames;
+        if (sequence.count == 0 || !sequence.read(std::min(k, sequence.count - 1), frames[p]))
+          continue;
+        const BackendInfo* info = find_backend(panels[p].name);
+        drawn_panels.push_back(
+            {panels[p].name, &frames[p], info && info->cloth_surface, panels[p].ms_per_step});
+        t = std::max(t, frames[p].t);
       }
-      char name[32];
-      std::snprintf(name, sizeof name, "/%05zu.png", k);
-      render::write_png(renderer->render(run.scene, run.weave, panels), folder + name);
+      if (drawn_panels.empty()) continue;
+      render::write_png(renderer->render(scene, weave, drawn_panels),
+                        folder + image_name(k, t, options.last_only));
+      ++drawn;
     }
-    // a movie of the images when ffmpeg is installed
-    if (samples > 1 && !last_only) {
-      if (std::system("command -v ffmpeg >/dev/null 2>&1") == 0) {
-        const std::string command =
-            "ffmpeg -loglevel error -y -framerate 20 -i '" + folder +
-            "/%05d.png' -pix_fmt yuv420p -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' '" + folder +
-            "/compare.mp4'";
-        if (std::system(command.c_str()) != 0)
-          std::fprintf(stderr, "render: ffmpeg failed, no compare.mp4\n");
-      } else {
-        std::fprintf(stderr,
-                     "render: ffmpeg is not installed, so no compare.mp4 (images/ are written)\n");
-      }
-    }
+    if (drawn > 1 && !options.last_only) write_movie(folder, options);
+    return drawn;
   };
 }
 #else
-std::function<void(const SceneRun&, const std::string&)> make_render_writer(const std::string&,
-                                                                            const std::string&,
-                                                                            bool) {
-  throw SceneError(
-      "--render: this build has no renderer (configured with CHAINMAIL_WITH_RENDER=OFF)");
+ImageWriter make_image_writer(const ImageSettings& image) {
+  throw SceneError((image.flag.empty() ? "render" : image.flag) +
+                   ": this build has no renderer (configured with CHAINMAIL_WITH_RENDER=OFF)");
 }
 #endif
+
+std::function<void(const SceneRun&, const std::string&)> make_render_writer(
+    const std::string& cloth_shader, const std::string& material, bool last_only) {
+  ImageSettings settings;
+  settings.cloth_shader = cloth_shader;
+  settings.material = material;
+  const ImageWriter draw = make_image_writer(settings);
+  return [draw, last_only](const SceneRun& run, const std::string& folder) {
+    std::vector<PanelFrames> panels;
+    for (const BackendRun& b : run.runs) {
+      if (b.stream.empty()) continue;
+      auto reader = FrameReader::open(b.stream, run.weave.size());
+      if (!reader) continue;
+      FrameSequence stream = stream_sequence(std::move(*reader));
+      // drawn as saved: every number rounded as the frame CSVs write it
+      FrameSequence as_saved{stream.count, [stream](std::size_t k, RingFrame& frame) {
+                               if (!stream.read(k, frame)) return false;
+                               round_as_csv(frame);
+                               return true;
+                             }};
+      panels.push_back({b.name, b.ms_per_step(), std::move(as_saved)});
+    }
+    ImageOptions options;
+    options.last_only = last_only;
+    draw(run.scene, run.weave, panels, folder, options);
+  };
+}
 
 }  // namespace chainmail

@@ -192,6 +192,7 @@ class BackendRunner {
     backend_->frame(run_.final_frame);
     run_.hash = frame_hash(run_.final_frame);
     run_.stages = backend_->profile().stages();
+    run_.residual = backend_->profile().residual();
     if (weave_.type != WeaveType::grid && run_.samples > 0)
       run_.overstretched = run_.peak_stretch > 1.0 + kOverstretchTolerance;
     if (run_.stable && run_.final_metrics().non_finite == 0) {

@@ -60,6 +60,7 @@ struct BackendRun {
   std::optional<Sample> last;         // the last sample (absent when the run never started)
   RingFrame final_frame;
   std::map<std::string, StageStats> stages;
+  ResidualStats residual;  // steps = 0: the backend reports none
   std::optional<double> catenary_error;  // chains pinned at both ends: sag against the catenary
   double peak_stretch = 0.0;             // largest max_stretch over every sample
   std::optional<bool> settled;           // absent when the run did not end stable

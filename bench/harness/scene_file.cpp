@@ -413,6 +413,7 @@ Scene scene_from_json(const json& document, const std::string& file) {
     top.fail("name", "must be a non-empty name without spaces, dots or slashes");
   }
   scene.description = top.string("description", "");
+  top.string("$schema", "");  // the scene schema, for editors (docs/scene.schema.json): ignored
   read_ring(scene, top);
   read_weave(scene, top);
   read_pins(scene, top);

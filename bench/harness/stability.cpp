@@ -13,7 +13,7 @@
 #include "bench/harness/interrupt.hpp"
 #include "bench/harness/output.hpp"
 #include "bench/harness/output_folder.hpp"
-#include "bench/harness/process.hpp"
+#include "bench/harness/data_dir.hpp"
 #include "bench/harness/run.hpp"
 #include "bench/harness/scene_file.hpp"
 #include "bench/harness/table_cells.hpp"
@@ -44,7 +44,7 @@ const std::vector<StabilityCase>& stability_cases() {
 }
 
 Scene load_stability_case(const StabilityCase& c, bool quick) {
-  return load_scene_file(source_dir() + "/bench/scenes/stability/" + c.file,
+  return load_scene_file(data_dir().scenes() + "/stability/" + c.file,
                          quick ? c.quick : std::vector<std::string>{});
 }
 

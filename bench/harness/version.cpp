@@ -19,15 +19,22 @@ std::string chainmail_commit() {
   return CHAINMAIL_COMMIT;
 }
 
-std::string chainmail_build() {
+std::string chainmail_compiler() {
 #if defined(__clang__)
-  const std::string compiler = "clang " __clang_version__;
+  return "clang " __clang_version__;
 #elif defined(__GNUC__)
-  const std::string compiler = "g++ " __VERSION__;
+  return "g++ " __VERSION__;
 #else
-  const std::string compiler = "unknown compiler";
+  return "unknown compiler";
 #endif
-  return compiler + ", " + CHAINMAIL_BUILD_TYPE;
+}
+
+std::string chainmail_build_type() {
+  return CHAINMAIL_BUILD_TYPE;
+}
+
+std::string chainmail_build() {
+  return chainmail_compiler() + ", " + chainmail_build_type();
 }
 
 }  // namespace chainmail

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "physics_oracles.hpp"
 #include "backend_sim.hpp"
 #include "core/capsule_torus.hpp"
 #include "core/metrics.hpp"
@@ -139,17 +140,7 @@ TEST_F(OdeBackend, TwoLinkedRingsHangLinkedWithoutInterpenetration) {
               worst_gap / ring.wire_radius, worst_stretch);
 }
 
-// sag of the catenary y = A cosh(x / A) of length L over the span S
-double catenary_sag(double span, double length) {
-  // L = 2 A sinh(S / 2A): bisect on A (the left side falls monotonically from inf to S)
-  double lo = 1e-6 * span, hi = 1e6 * span;
-  for (int k = 0; k < 200; ++k) {
-    const double mid = std::sqrt(lo * hi);
-    (2.0 * mid * std::sinh(span / (2.0 * mid)) > length ? lo : hi) = mid;
-  }
-  const double A = std::sqrt(lo * hi);
-  return A * (std::cosh(span / (2.0 * A)) - 1.0);
-}
+using test::catenary_sag;
 
 TEST_F(OdeBackend, ChainHangsAsACatenary) {
   // the bench scene itself (its damping only speeds up settling; the equilibrium does not

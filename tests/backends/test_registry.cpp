@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <memory>
 #include <numbers>
+#include <stdexcept>
 #include <set>
 #include <sstream>
 #include <string>
@@ -43,8 +45,11 @@ Scene scene_with(const json& backends, const std::string& reference = "plausible
 
 TEST(Registry, KnowsEveryBackendAndHasTheBuiltOnesInTheSameOrder) {
   const std::vector<std::string>& known = known_backend_names();
-  EXPECT_EQ(known, (std::vector<std::string>{"plausible", "massspring", "bullet", "ode",
-                                             "torus_xpbd"}));
+  // the project's own, then any registered by a test before this one
+  ASSERT_GE(known.size(), 5u);
+  EXPECT_EQ(std::vector<std::string>(known.begin(), known.begin() + 5),
+            (std::vector<std::string>{"plausible", "massspring", "bullet", "ode",
+                                                       "torus_xpbd"}));
   auto next = known.begin();
   for (const BackendInfo& info : backend_registry()) {
     next = std::find(next, known.end(), info.name);
@@ -70,9 +75,11 @@ TEST(Registry, RefusesAnUnknownBackendNamingEveryKnownOne) {
     validate_backend_knobs(scene_with({{"havok", json::object()}}));
     FAIL() << "no error";
   } catch (const SceneError& error) {
-    EXPECT_STREQ(error.what(),
-                 "scene.json: key 'backends.havok': unknown backend (known: plausible, "
-                 "massspring, bullet, ode, torus_xpbd)");
+    EXPECT_STREQ(error.what(), ("scene.json: key 'backends.havok': unknown backend (known: " +
+                                join_names(known_backend_names()) + ")")
+                                   .c_str());
+    EXPECT_TRUE(std::string(error.what()).find("plausible, massspring, bullet, ode, torus_xpbd") !=
+                std::string::npos);
   }
   try {
     validate_backend_knobs(scene_with(json::object(), "havok"));
@@ -228,6 +235,133 @@ std::string backend_name(const ::testing::TestParamInfo<std::string>& info) { re
 
 INSTANTIATE_TEST_SUITE_P(Every, KnobTableContract, ::testing::ValuesIn(known_backend_names()),
                          backend_name);
+
+// ---------------------------------------------------------------------------------------------
+// backends registered from outside the project
+
+// rings that stay where the rest layout puts them: enough to exercise the registry
+class StillBackend final : public Backend {
+ public:
+  const char* name() const override { return "outside"; }
+  void reset(const Scene&, const Weave& weave, const Knobs&) override {
+    frame_.resize(weave.size());
+    frame_.position = weave.rest_position;
+    frame_.orientation = weave.rest_orientation;
+    frame_.velocity.setZero();
+    frame_.t = 0.0;
+  }
+  StepStatus step(double dt) override {
+    frame_.t += dt;
+    return StepStatus::ok;
+  }
+  void frame(RingFrame& out) const override { out = frame_; }
+  const StageProfile& profile() const override { return profile_; }
+
+ private:
+  RingFrame frame_;
+  StageProfile profile_;
+};
+
+BackendInfo still_backend(const std::string& name) {
+  BackendInfo info;
+  info.name = name;
+  info.summary = "rings that never move";
+  info.knobs = {{"dt", KnobSpec::Type::number, 0.01, 1e-6, 1.0, "time step, s"},
+                {"stiffness", KnobSpec::Type::number, 1.0, 0.0, 10.0, "unused, N/m"},
+                {"passes", KnobSpec::Type::integer, 2, 1, 8, "unused"}};
+  info.create = [] { return std::make_unique<StillBackend>(); };
+  return info;
+}
+
+// the message register_backend refuses `info` with ("" when it takes it)
+std::string refusal(BackendInfo info) {
+  try {
+    register_backend(std::move(info));
+  } catch (const std::invalid_argument& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(RegisterBackend, AddsABackendThatScenesConfigureAndRunsName) {
+  const BackendInfo* plausible = find_backend("plausible");
+  const std::size_t known = known_backend_names().size();
+  register_backend(still_backend("outside"));
+
+  ASSERT_EQ(known_backend_names().size(), known + 1);
+  EXPECT_EQ(known_backend_names().back(), "outside");
+  EXPECT_EQ(built_backend_names().back(), "outside");
+  EXPECT_TRUE(backend_built("outside"));
+  EXPECT_FALSE(backend_known_unbuilt("outside"));
+  // lookups handed out before stay valid
+  EXPECT_EQ(find_backend("plausible"), plausible);
+  EXPECT_EQ(plausible->name, "plausible");
+  const BackendInfo* outside = find_backend("outside");
+  ASSERT_NE(outside, nullptr);
+  EXPECT_STREQ(outside->create()->name(), "outside");
+
+  // a scene sets its knobs like any other backend's, and they are checked alike
+  const Knobs knobs = resolve_knobs(scene_with({{"outside", {{"stiffness", 3}}}}), *outside);
+  EXPECT_EQ(knobs, (Knobs{{"dt", 0.01}, {"stiffness", 3.0}, {"passes", 2.0}}));
+  EXPECT_TRUE(validate_backend_knobs(scene_with({{"outside", json::object()}}, "outside")).empty());
+  try {
+    validate_backend_knobs(scene_with({{"outside", {{"passes", 9}}}}));
+    FAIL() << "no error";
+  } catch (const SceneError& error) {
+    EXPECT_STREQ(error.what(),
+                 "scene.json: key 'backends.outside.passes': must be in [1, 8], got 9");
+  }
+  test::BackendSim sim("outside", scene_with({{"outside", json::object()}}));
+  sim.steps(3);
+  EXPECT_DOUBLE_EQ(sim.frame.t, 0.03);
+}
+
+TEST(RegisterBackend, RefusesTakenNamesAndBrokenKnobTablesLeavingTheRegistryAsItWas) {
+  const std::size_t known = known_backend_names().size();
+  const std::string prefix = "register_backend: backend '";
+  // every name of the project is taken, built into this binary or not
+  for (const std::string name : {"plausible", "massspring", "bullet", "ode"}) {
+    const std::string message = refusal(still_backend(name));
+    EXPECT_TRUE(message.starts_with(prefix + name + "': the name is taken")) << message;
+    EXPECT_EQ(message.find("not built") != std::string::npos, !backend_built(name)) << message;
+  }
+  for (const std::string name : {"", "all", "none", "Big", "two words", "a.b", "a,b", "9lives"}) {
+    EXPECT_EQ(refusal(still_backend(name)),
+              prefix + name +
+                  "': a name is a word of lowercase letters, digits and '_' starting with a "
+                  "letter, and not 'all' or 'none'");
+  }
+  const auto broken = [&](auto change) {
+    BackendInfo info = still_backend("broken");
+    change(info);
+    return refusal(std::move(info)).substr(prefix.size() + std::string("broken': ").size());
+  };
+  const std::string no_dt = "needs a knob 'dt' (a number with a positive minimum)";
+  EXPECT_EQ(broken([](BackendInfo& i) { i.knobs.erase(i.knobs.begin()); }), no_dt);
+  EXPECT_EQ(broken([](BackendInfo& i) { i.knobs[0].min = 0.0; }), no_dt);
+  EXPECT_EQ(broken([](BackendInfo& i) { i.knobs[0].type = KnobSpec::Type::integer; }),
+            "knob 'dt': an integer knob needs integral min, max and default");
+  EXPECT_EQ(broken([](BackendInfo& i) { i.knobs.push_back(i.knobs[1]); }),
+            "knob 'stiffness': declared twice");
+  EXPECT_EQ(broken([](BackendInfo& i) { i.knobs[1].default_value = 11.0; }),
+            "knob 'stiffness': default outside [min, max]");
+  EXPECT_EQ(broken([](BackendInfo& i) { i.knobs[1].help.clear(); }),
+            "knob 'stiffness': no help text");
+  EXPECT_EQ(broken([](BackendInfo& i) { i.knobs[2].max = 8.5; }),
+            "knob 'passes': an integer knob needs integral min, max and default");
+  EXPECT_EQ(broken([](BackendInfo& i) {
+              i.knobs.push_back({"on", KnobSpec::Type::boolean, 1.0, 0.0, 2.0, "a switch"});
+            }),
+            "knob 'on': a boolean knob has range [0, 1] and default 0 or 1");
+  EXPECT_EQ(broken([](BackendInfo& i) { i.knobs[1].name = "Stiffness"; }),
+            "knob 'Stiffness': not a plain lowercase word");
+  EXPECT_EQ(broken([](BackendInfo& i) { i.create = nullptr; }), "create is empty");
+  EXPECT_EQ(known_backend_names().size(), known);
+  EXPECT_FALSE(backend_known("broken"));
+  // and a name registered once is taken
+  EXPECT_EQ(refusal(still_backend("second")), "");
+  EXPECT_TRUE(refusal(still_backend("second")).starts_with(prefix + "second': the name is taken"));
+}
 
 }  // namespace
 }  // namespace chainmail

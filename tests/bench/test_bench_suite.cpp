@@ -25,8 +25,8 @@ int count_lines(const fs::path& path) {
 
 TEST(BenchPlan, EveryStepLoadsAndQuickModeIsSmallerAndShorter) {
   const BenchPlan& plan = bench_plan();
-  EXPECT_EQ(plan.scenes.size(), 5u);
-  EXPECT_EQ(plan.sweeps.size(), 2u);
+  EXPECT_EQ(plan.scenes.size(), 6u);
+  EXPECT_EQ(plan.sweeps.size(), 3u);
   std::vector<BenchStep> steps = plan.scenes;
   steps.insert(steps.end(), plan.sweeps.begin(), plan.sweeps.end());
   for (const BenchStep& step : steps) {
@@ -56,15 +56,17 @@ TEST(Bench, QuickModeWritesEveryResultsFile) {
   ASSERT_EQ(bench_command(bench), kExitOk);
   for (const char* file :
        {"README.md", "timing.md", "timing.csv", "metrics.md", "sweep/curtain/sweep.csv",
-        "sweep/table_cloth/sweep.csv", "stability/stability.md", "stability/stability.csv",
-        "curtain/summary.json", "table_cloth/metrics.csv", "chain_catenary/table.md",
+        "sweep/table_cloth/sweep.csv", "sweep/corner_hang/sweep.csv", "stability/stability.md",
+        "stability/stability.csv", "curtain/summary.json", "corner_hang/summary.json",
+        "table_cloth/metrics.csv", "chain_catenary/table.md",
         "chain_pile/summary.json", "sphere_drape/summary.json"}) {
     EXPECT_TRUE(fs::exists(out / file)) << file;
   }
-  EXPECT_EQ(count_lines(out / "timing.csv"), 1 + 5 * 2);  // five scenes, two backends
+  EXPECT_EQ(count_lines(out / "timing.csv"), 1 + 6 * 2);  // six scenes, two backends
   if (!plotting_python().empty()) {
     EXPECT_TRUE(fs::exists(out / "sweep/curtain/sweep.png"));
     EXPECT_TRUE(fs::exists(out / "sweep/table_cloth/sweep.png"));
+    EXPECT_TRUE(fs::exists(out / "sweep/corner_hang/sweep.png"));
   }
   // every stability case has a row, the stiffness study's included
   std::ifstream stability(out / "stability/stability.csv");

@@ -10,6 +10,8 @@
 #include <string>
 
 #include "backends/backend.hpp"
+#include "bench/harness/scene_file.hpp"
+#include "bench/harness/version.hpp"
 
 namespace chainmail {
 namespace {
@@ -134,7 +136,10 @@ TEST_F(Cli, UnstableRunExitsOneWithItsVerdictWritten) {
              {"duration", 1.0},
              {"backends",
               {{"plausible",
-                {{"dt", 0.05}, {"repulsion_stiffness", 1e6}, {"repulsion_fraction", 1.5}}}}}});
+                {{"dt", 0.05},
+         {"repulsion_spring", true},
+         {"newton_steps", 0},
+         {"iterations", 1}, {"repulsion_stiffness", 1e6}, {"repulsion_fraction", 1.5}}}}}});
   const Outcome run = chainmail("run " + file + " --quiet --out " + out() + cache());
   ASSERT_EQ(run.status, 1) << run.output;
   std::ifstream in(fs::path(out()) / "summary.json");
@@ -292,6 +297,99 @@ TEST_F(Cli, UnwritableCacheWarnsOnceAndTheRunGoesOn) {
   std::ifstream in(fs::path(out()) / "summary.json");
   const json summary = json::parse(in);
   EXPECT_TRUE(summary["backends"]["plausible"]["final"].contains("drape_rms"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// the commands that run nothing: --version, backends, check, --help
+
+TEST_F(Cli, VersionNamesTheVersionCommitCompilerAndBuildType) {
+  const Outcome version = chainmail("--version");
+  EXPECT_EQ(version.status, 0);
+  EXPECT_EQ(version.output, chainmail_version() + " (" + chainmail_commit() + ", " +
+                                chainmail_compiler() + ", " + chainmail_build_type() + ")\n");
+}
+
+TEST_F(Cli, BackendsListsEveryKnobWithItsTypeDefaultRangeAndHelp) {
+  const Outcome text = chainmail("backends");
+  ASSERT_EQ(text.status, 0) << text.output;
+  const Outcome as_json = chainmail("backends --json");
+  ASSERT_EQ(as_json.status, 0) << as_json.output;
+  const json listed = json::parse(as_json.output)["backends"];
+  ASSERT_EQ(listed.size(), known_backend_names().size());
+  for (std::size_t k = 0; k < listed.size(); ++k) {
+    const std::string name = known_backend_names()[k];
+    SCOPED_TRACE(name);
+    EXPECT_EQ(listed[k]["name"], name);
+    EXPECT_EQ(listed[k]["built"], backend_built(name));
+    const BackendInfo* info = find_backend(name);
+    if (!info) {
+      EXPECT_NE(text.output.find(name + ": not built into this binary"), std::string::npos);
+      continue;
+    }
+    EXPECT_NE(text.output.find(name + ": " + info->summary + "\n"), std::string::npos);
+    ASSERT_EQ(listed[k]["knobs"].size(), info->knobs.size());
+    for (std::size_t n = 0; n < info->knobs.size(); ++n) {
+      const KnobSpec& spec = info->knobs[n];
+      const json& knob = listed[k]["knobs"][n];
+      EXPECT_EQ(knob["name"], spec.name);
+      EXPECT_EQ(knob["help"], spec.help);
+      if (spec.type == KnobSpec::Type::boolean) {
+        EXPECT_EQ(knob["type"], "boolean");
+        EXPECT_EQ(knob["default"], spec.default_value != 0.0) << spec.name;
+        continue;
+      }
+      EXPECT_EQ(knob["default"].get<double>(), spec.default_value) << spec.name;
+      EXPECT_EQ(knob["min"].get<double>(), spec.min) << spec.name;
+      EXPECT_EQ(knob["max"].get<double>(), spec.max) << spec.name;
+      EXPECT_NE(text.output.find("  " + spec.name + " "), std::string::npos) << spec.name;
+      EXPECT_NE(text.output.find(spec.help + "\n"), std::string::npos) << spec.name;
+    }
+  }
+}
+
+TEST_F(Cli, CheckValidatesScenesAndWritesNothing) {
+  const std::string good = scene();
+  const Outcome ok =
+      chainmail("check " + good + " --set weave.rows=3", "cd " + dir_.string() + " &&");
+  ASSERT_EQ(ok.status, 0) << ok.output;
+  EXPECT_EQ(ok.output, good + ": ok: scene 'cli', 12 rings (4in1 3 x 4), 0.05 s; backends "
+                              "plausible; reference plausible\n");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);
+
+  // every file is checked; one bad file is bad input
+  const fs::path bad = dir_ / "bad.json";
+  std::ofstream(bad) << R"({"name": "bad", "weave": {"type": "chain", "cols": 1}, "duration": 1})";
+  const Outcome both = chainmail("check " + bad.string() + " " + good);
+  EXPECT_EQ(both.status, 2);
+  EXPECT_NE(both.output.find("chainmail: " + bad.string() + ": key 'weave.cols': must be in [2, "),
+            std::string::npos)
+      << both.output;
+  EXPECT_NE(both.output.find(good + ": ok: "), std::string::npos) << both.output;
+  EXPECT_EQ(lines(both.output), 2) << both.output;
+  const Outcome bad_set = chainmail("check " + good + " --set backends.plausible.dt=1");
+  EXPECT_EQ(bad_set.status, 2);
+  EXPECT_NE(bad_set.output.find("backends.plausible.dt"), std::string::npos) << bad_set.output;
+
+  // the resolved scene, every default filled in
+  const Outcome resolved = chainmail("check --resolved " + good);
+  ASSERT_EQ(resolved.status, 0) << resolved.output;
+  EXPECT_EQ(json::parse(resolved.output), scene_to_json(load_scene_file(good)));
+}
+
+TEST_F(Cli, HelpShowsDefaultsAndTheBackends) {
+  const Outcome run = chainmail("run --help");
+  EXPECT_EQ(run.status, 0);
+  for (const char* shown : {"--max-memory FLOAT=8", "--max-hours FLOAT=2", "--max-output FLOAT=20",
+                            "--shader TEXT=texture", "--material TEXT=steel"})
+    EXPECT_NE(run.output.find(shown), std::string::npos) << shown << "\n" << run.output;
+  for (const std::string& name : known_backend_names())
+    EXPECT_NE(run.output.find(" " + name), std::string::npos) << name;
+  EXPECT_NE(chainmail("bench --help").output.find("--jobs INT:INT in [1 - 256]=2"),
+            std::string::npos);
+  EXPECT_NE(chainmail("stability --help").output.find("--max-wall FLOAT=30"), std::string::npos);
+  const Outcome top = chainmail("--help");
+  for (const char* listed : {"backends", "check", "Exit status: 0 ok", "Bench scenes: "})
+    EXPECT_NE(top.output.find(listed), std::string::npos) << listed;
 }
 
 }  // namespace

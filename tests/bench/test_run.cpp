@@ -1,9 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
 #include <limits>
+#include <thread>
 
 #include "backends/backend.hpp"
 #include "bench/harness/commands.hpp"
@@ -12,6 +14,7 @@
 #include "bench/harness/run.hpp"
 #include "bench/harness/scene_file.hpp"
 #include "bench/harness/usage_error.hpp"
+#include "bench/harness/version.hpp"
 
 namespace chainmail {
 namespace {
@@ -195,7 +198,8 @@ TEST(Run, SameSceneTwiceSameHash) {
 }
 
 TEST(Run, InjectedInstabilityIsReportedNotCrashed) {
-  // a time step far too large for the repulsion springs. A range of 1.5 inner diameters puts
+  // a time step far too large for the paper's explicit repulsion springs, with one sweep and no
+  // Newton steps to hold the weave together. A range of 1.5 inner diameters puts
   // non-neighbours inside it at the rest layout, and 1e6 N/m over 0.05 s throws them at
   // kilometres per second in the first step: the first sample after it is still finite, so the
   // first check that fails is max_speed (before torn_links, which fails too)
@@ -203,7 +207,10 @@ TEST(Run, InjectedInstabilityIsReportedNotCrashed) {
   doc["weave"] = {{"type", "4in1"}, {"rows", 8}, {"cols", 8}, {"plane", "xz"}};
   doc["pins"] = json::array();
   doc["backends"] = {
-      {"plausible", {{"dt", 0.05}, {"repulsion_stiffness", 1e6}, {"repulsion_fraction", 1.5}}}};
+      {"plausible", {{"dt", 0.05},
+         {"repulsion_spring", true},
+         {"newton_steps", 0},
+         {"iterations", 1}, {"repulsion_stiffness", 1e6}, {"repulsion_fraction", 1.5}}}};
   const Scene scene = scene_from_json(doc, "test");
   const SceneRun run = run_scene(scene, quiet());
   ASSERT_EQ(run.runs.size(), 1u);
@@ -307,7 +314,16 @@ TEST(Run, ContractFilesWritten) {
     EXPECT_TRUE(entry.contains(key)) << key;
   }
   EXPECT_TRUE(summary["ring"].contains("wire_radius"));
-  EXPECT_TRUE(summary["build"].contains("version"));
+  // what built it and where it ran
+  const json& build = summary["build"];
+  EXPECT_EQ(build["version"], chainmail_version());
+  EXPECT_EQ(build["commit"], chainmail_commit());
+  EXPECT_EQ(build["compiler"], chainmail_compiler());
+  EXPECT_EQ(build["build_type"], chainmail_build_type());
+  EXPECT_FALSE(build["build_type"].get<std::string>().empty());
+  EXPECT_EQ(build["threads"], 1);  // every backend steps on one thread
+  EXPECT_EQ(build["host_cores"], std::thread::hardware_concurrency());
+  EXPECT_EQ(build.size(), 6u);
   for (const char* key : {"max_stretch", "penetration_max_linked", "penetration_mean_other"})
     EXPECT_TRUE(entry["final"].contains(key)) << key;
   EXPECT_FALSE(entry["final"].contains("drape_coefficient"));  // no support: absent, not zero
@@ -353,12 +369,38 @@ TEST(Run, SettledAgainstTheEnergyReleased) {
   const SceneRun falling = run_scene(scene_from_json(doc, "test"), quiet());
   ASSERT_TRUE(falling.runs[0].settled.has_value());
   EXPECT_FALSE(*falling.runs[0].settled);
-  doc["weave"]["center"] = {0, 0.0008, 0};  // resting on the plane y = 0 (wire radius 0.8 mm)
+  // resting on the plane y = 0: the 4-in-1 rest layout tilts the ring, so its torus reaches
+  // a + c sqrt(1 - (axis . y)^2) below its centre (exact torus geometry)
+  const Scene lone = scene_from_json(doc, "test");
+  const Weave weave = make_weave(lone.weave, lone.ring);
+  const Orientations& o = weave.rest_orientation;
+  const Vec3 axis = Quat(o(0, 0), o(1, 0), o(2, 0), o(3, 0)) * Vec3::UnitY();
+  const double reach = lone.ring.wire_radius +
+                       lone.ring.centre_radius * std::sqrt(1.0 - axis.y() * axis.y());
+  doc["weave"]["center"] = {0, reach, 0};
   doc["colliders"] = json::array({{{"type", "plane"}, {"point", {0, 0, 0}}}});
   doc["duration"] = 1.0;
   const SceneRun resting = run_scene(scene_from_json(doc, "test"), quiet());
   ASSERT_TRUE(resting.runs[0].settled.has_value());
   EXPECT_TRUE(*resting.runs[0].settled);
+}
+
+TEST(Run, ResidualOfTheSolveIsReportedAgainstItsTolerance) {
+  // the default solve converges every step; one sweep without Newton steps cannot hang a curtain
+  // and says so in its residual
+  const SceneRun converged = run_scene(small_curtain(), quiet());
+  const ResidualStats& good = converged.runs[0].residual;
+  EXPECT_EQ(good.steps, converged.runs[0].steps);
+  EXPECT_GT(good.tolerance, 0.0);
+  EXPECT_EQ(good.unconverged, 0);
+  EXPECT_LE(good.last, good.tolerance);
+  json doc = scene_to_json(small_curtain());
+  doc["backends"] = {{"plausible", {{"iterations", 1}, {"newton_steps", 0}}}};
+  const SceneRun capped = run_scene(scene_from_json(doc, "test"), quiet());
+  const ResidualStats& bad = capped.runs[0].residual;
+  EXPECT_GT(bad.unconverged, 0);
+  EXPECT_GT(bad.max, bad.tolerance);
+  EXPECT_GE(bad.max, bad.last);
 }
 
 TEST(Run, OverstretchedIsFlaggedApartFromStability) {

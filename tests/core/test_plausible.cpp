@@ -30,8 +30,8 @@ Scene curtain(int rows, int cols) {
 }
 
 TEST(Plausible, OverExtensionShrinksWithIterations) {
-  // plain Gauss-Seidel sweeps (no outward pass): the stretch left after a step falls as the sweep
-  // count grows, and vanishes at a high count
+  // plain Gauss-Seidel sweeps (no outward pass, no Newton steps): the stretch left after a step
+  // falls as the sweep count grows, and vanishes at a high count
   const Scene scene = curtain(30, 30);
   const Weave weave = make_weave(scene.weave, scene.ring);
   std::vector<double> residual;
@@ -39,6 +39,8 @@ TEST(Plausible, OverExtensionShrinksWithIterations) {
     PlausibleSettings settings;
     settings.iterations = iterations;
     settings.shock_propagation = false;
+    settings.tolerance = 0.0;  // the sweeps alone, every one of them
+    settings.newton_steps = 0;
     PlausibleSim sim;
     sim.reset(scene, weave, settings);
     // disturb the sheet first: every free ring displaced by up to 1.5 mm (same seed every time)
@@ -59,10 +61,15 @@ TEST(Plausible, OverExtensionShrinksWithIterations) {
 }
 
 TEST(Plausible, OutwardPassRemovesHangingStretch) {
+  // the outward pass with the paper's rule (no compression limits): with four sweeps and no Newton
+  // steps, the diagonal bounds undo its one-sided moves
   const Scene scene = curtain(30, 30);
   const Weave weave = make_weave(scene.weave, scene.ring);
   PlausibleSettings settings;
   settings.iterations = 4;
+  settings.newton_steps = 0;
+  settings.shock_propagation = true;
+  settings.compression_limits = false;
   PlausibleSim sim;
   sim.reset(scene, weave, settings);
   for (int s = 0; s < 250; ++s) sim.step(0.004);
@@ -121,9 +128,12 @@ TEST(Plausible, SheetDroppedOnPlaneRestsWithoutSinking) {
   PlausibleSim sim;
   sim.reset(scene, weave, PlausibleSettings{});
   for (int s = 0; s < 500; ++s) sim.step(0.004);
-  const double margin = sim.model().contact_margin;
-  EXPECT_GE(sim.state().position.row(1).minCoeff(), margin - 1e-9);
-  EXPECT_LT(sim.state().position.row(1).maxCoeff(), margin + scene.ring.inner_diameter());
+  // a ring's centre stays at least a (lying flat) and at most c + a (on its rim) above the plane,
+  // within the solver's tolerance
+  const RingGeometry& ring = scene.ring;
+  const double tolerance = sim.model().settings.tolerance * sim.model().longest_link;
+  EXPECT_GE(sim.state().position.row(1).minCoeff(), ring.wire_radius - tolerance);
+  EXPECT_LT(sim.state().position.row(1).maxCoeff(), ring.centre_radius + ring.wire_radius);
   EXPECT_LT(sim.state().velocity.cwiseAbs().maxCoeff(), 1e-3);  // at rest
 }
 
@@ -253,9 +263,9 @@ TEST(Orientation, FittedSwivelClearsNeighboursWhereAOverCDoesNot) {
 }
 
 TEST(Plausible, ContactCandidatesHoldEveryPairInRange) {
-  // a sheet folding over a sphere: at every step each non-neighbour pair closer than the
-  // repulsion range must be in the reused candidate list, and the list is rebuilt far less often
-  // than every step
+  // a sheet folding over a small sphere, its sides folding in under it: at every step each
+  // non-neighbour pair closer than the repulsion range must be in the reused candidate list, and
+  // the list is rebuilt far less often than every step
   const Scene scene = scene_from_json(
       json{{"name", "fold"},
            {"weave",
@@ -263,9 +273,9 @@ TEST(Plausible, ContactCandidatesHoldEveryPairInRange) {
              {"rows", 12},
              {"cols", 12},
              {"plane", "xz"},
-             {"center", {0, 0.08, 0}}}},
+             {"center", {0, 0.06, 0}}}},
            {"colliders",
-            json::array({{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 0.04}}})},
+            json::array({{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 0.02}}})},
            {"duration", 1.0}},
       "test");
   const Weave weave = make_weave(scene.weave, scene.ring);
@@ -283,6 +293,10 @@ TEST(Plausible, ContactCandidatesHoldEveryPairInRange) {
       for (int j = i + 1; j < weave.size(); ++j) {
         const auto& nb = weave.neighbours[i];
         if (std::find(nb.begin(), nb.end(), j) != nb.end()) continue;
+        // rings that share two neighbours have a minimum distance of their own
+        const bool diagonal = std::abs(weave.grid[i][0] - weave.grid[j][0]) == 1 &&
+                              std::abs(weave.grid[i][1] - weave.grid[j][1]) == 1;
+        if (diagonal) continue;
         if ((p.col(i) - p.col(j)).norm() >= range) continue;
         ++close_pairs;
         ASSERT_TRUE(listed.count({i, j})) << "pair " << i << "," << j << " missed at step " << s;
@@ -321,7 +335,7 @@ TEST(Plausible, CurtainHashMatchesTheRecordedOne) {
   sim.frame(frame);
   std::printf("curtain 10x10, 250 steps: hash %016llx\n",
               static_cast<unsigned long long>(frame_hash(frame)));
-  EXPECT_EQ(frame_hash(frame), 0xb258253d137d0cbbull);
+  EXPECT_EQ(frame_hash(frame), 0x9655c43ce3ed74afull);
 }
 
 }  // namespace

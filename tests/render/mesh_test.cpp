@@ -61,6 +61,28 @@ Scene grid_scene(int rows, int cols) {
   return scene;
 }
 
+TEST(RenderMesh, SupportDiskSitsAHairAboveTheTableTopItRestsOn) {
+  // the drape table's collider and its support share a top at 0.1 m: drawn coplanar, they would
+  // fight for depth; the disk is lifted by less than a tenth of a wire radius
+  Scene scene = test::sheet_scene(2, 2);
+  Collider table;
+  table.type = Collider::Type::cylinder;
+  table.center = Vec3(0.0, 0.05, 0.0);
+  table.radius = 0.03, table.half_height = 0.05;
+  scene.colliders.push_back(table);
+  scene.support = Support{Vec3(0.0, 0.1, 0.0), 0.03};
+  const Mesh mesh = scene_mesh(scene, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 1.0);
+  double table_top = -1.0, disk_top = -1.0;
+  for (int k = 0; k < mesh.vertex_count(); ++k) {
+    const Eigen::Vector3d p = vertex(mesh, k, 0), color = vertex(mesh, k, 6);
+    const bool disk = std::abs(color.x() - 0.52) < 1e-6;  // the support's colour
+    (disk ? disk_top : table_top) = std::max(disk ? disk_top : table_top, p.y());
+  }
+  EXPECT_NEAR(table_top, 0.1, 1e-7);
+  EXPECT_GT(disk_top - table_top, 1e-5);
+  EXPECT_LT(disk_top - table_top, 0.1 * scene.ring.wire_radius);
+}
+
 TEST(RenderMesh, ClothMeshJoinsGridNeighboursIntoQuads) {
   const Scene scene = grid_scene(3, 4);
   const Weave weave = make_weave(scene.weave, scene.ring);

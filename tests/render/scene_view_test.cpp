@@ -200,6 +200,31 @@ TEST(RenderSceneView, AutomaticCameraSeesTheWholeFabricFromAboveAndInFront) {
   }
 }
 
+TEST(RenderSceneView, ViewFromFramesTheFabricFromThatDirectionWhateverTheSceneCamera) {
+  // a fixed scene camera looking elsewhere: a direction overrides it and frames the sheet
+  const Scene scene = test::with_camera(test::sheet_scene(8, 8), Vec3(5, 5, 5), Vec3(4, 4, 4));
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  RingFrame frame;
+  frame.resize(weave.size());
+  frame.position = weave.rest_position;
+  const Bounds bounds = frame_bounds({&frame});
+  for (const Vector3d& from : {Vector3d(0, 1, 0), Vector3d(1, 0.15, 0), Vector3d(0, 0.15, 1)}) {
+    const CameraView camera = make_camera(scene, bounds, 16.0 / 9.0, from);
+    EXPECT_NEAR((camera.eye - camera.target).normalized().dot(from.normalized()), 1.0, 1e-12);
+    EXPECT_TRUE(camera.up.allFinite() && camera.right().allFinite()) << from.transpose();
+    const Eigen::Matrix4f vp = camera.view_projection(Vector3d::Zero());
+    for (int ring = 0; ring < frame.size(); ++ring) {
+      const Eigen::Vector4f clip =
+          vp * Eigen::Vector4f(frame.position(0, ring), frame.position(1, ring),
+                               frame.position(2, ring), 1.0f);
+      ASSERT_LT((clip.head<3>() / clip.w()).cwiseAbs().maxCoeff(), 1.0f)
+          << "ring " << ring << " off screen from " << from.transpose();
+    }
+  }
+  // without a direction the scene's own camera stays
+  EXPECT_EQ(make_camera(scene, bounds, 1.0).eye, Vector3d(5, 5, 5));
+}
+
 TEST(RenderSceneView, SkyRayBasisSpansTheFieldOfView) {
   CameraView camera = test_camera();
   camera.aspect = 1.5;

@@ -1,0 +1,48 @@
+// The plausible model's compression limits from the weave's geometry (core/weave_limits): the
+// closest approach of linked neighbours, and the distance bounds of rings that share two
+// neighbours, solved in the same sweeps as the edges.
+#include <algorithm>
+#include <cstdlib>
+
+#include "core/constraints.hpp"
+#include "core/plausible.hpp"
+#include "core/weave_limits.hpp"
+
+namespace chainmail {
+
+double PlausibleSim::build_compression_limits() {
+  model_.diagonals.clear();
+  const double paper = model_.ring.min_link_distance();  // the wire thickness
+  if (!model_.settings.compression_limits || weave_.type != WeaveType::four_in_one) return paper;
+  const WeaveLimits limits = four_in_one_limits(model_.ring, model_.extended_swivel);
+  for (const DiagonalPair& pair : diagonal_pairs(weave_, limits)) {
+    model_.diagonals.push_back({pair.a, pair.b, pair.min, pair.max});
+  }
+  return std::max(paper, limits.link);
+}
+
+bool PlausibleSim::is_diagonal(int a, int b) const {
+  if (model_.diagonals.empty()) return false;
+  const auto& first = weave_.grid[a];
+  const auto& second = weave_.grid[b];
+  return std::abs(first[0] - second[0]) == 1 && std::abs(first[1] - second[1]) == 1;
+}
+
+double PlausibleSim::solve_diagonals() {
+  auto scope = profile_.scope("constraints");
+  Positions& p = state_.position;
+  const std::vector<double>& w = model_.inverse_mass;
+  double worst = 0.0;  // m
+  for (const EdgeConstraint& e : model_.diagonals) {
+    Vec3 corr0, corr1;
+    if (solve_edge_constraint(p.col(e.a), w[e.a], p.col(e.b), w[e.b], e.min_length, e.max_length,
+                              corr0, corr1)) {
+      p.col(e.a) += corr0;
+      p.col(e.b) += corr1;
+      worst = std::max(worst, (corr1 - corr0).norm());
+    }
+  }
+  return worst;
+}
+
+}  // namespace chainmail
