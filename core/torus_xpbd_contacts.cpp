@@ -268,9 +268,10 @@ void TorusXpbdSim::apply_contact(int a, int b, const Vec3& normal, const Vec3& p
   Vec3 relative = point_velocity(a, arm_a);
   if (ring_b) relative -= point_velocity(b, arm_b);
   if (!ring_b) relative -= h * model_.gravity;
-  // a contact that static friction held does not slide: no dynamic friction for it
-  active_.push_back(
-      {a, b, normal, arm_a, arm_b, lambda, w, normal.dot(relative), stuck ? 0.0 : friction});
+  // every contact that pushed meets dynamic friction in the velocity pass, held or not (it only
+  // takes sliding speed away, never more than there is): a held contact's velocity still carries
+  // the slip that the contacts solved after it brought
+  active_.push_back({a, b, normal, arm_a, arm_b, lambda, w, normal.dot(relative), friction});
   // a ring held by a collider's static friction is held again after the rings' own contacts
   if (stuck && !ring_b)
     collider_holds_.push_back({a, rotation_[a].transpose() * arm_a, normal, lambda, friction});
