@@ -143,9 +143,11 @@ class TorusXpbdSim {
   void update_sleep(double dt);
   bool finite() const;
   // contacts (torus_xpbd_contacts.cpp)
+  void solve_links(double h, bool scan);
   void solve_pairs(std::vector<RingPairContact>& pairs, double h, bool scan);
   void order_links();
-  void solve_pair(RingPairContact& pair, double h, bool scan);
+  // the deepest depth it corrected, m
+  double solve_pair(RingPairContact& pair, double h, bool scan);
   void find_new_minima(RingPairContact& pair, const CirclePairDistance& distance, double limit);
   void solve_colliders(double h, bool scan);
   void apply_contact(int a, int b, const Vec3& normal, const Vec3& point, double depth,
@@ -178,6 +180,12 @@ class TorusXpbdSim {
   std::vector<int> support_depth_;  // (n) links from the nearest support, -1 none
   std::vector<int> queue_;          // (n) breadth-first scratch
   std::vector<char> touching_;      // (n) 1: touched a collider in this step
+  std::vector<int> retry_;          // links solved once more in this substep
+  // ring-ring corrections of the first pass are over-relaxed: one Gauss-Seidel pass a substep
+  // leaves a hanging sheet's contacts short by a share of the weight below them, and 1.3 takes a
+  // third of that off (rigid contacts overshoot into a gap, never into each other)
+  static constexpr double kOverRelaxation = 1.3;
+  double relaxation_ = kOverRelaxation;
   std::vector<ColliderCandidate> collider_candidates_, previous_candidates_;
   std::vector<ActiveContact> active_;
   std::vector<ColliderHold> collider_holds_;

@@ -19,10 +19,6 @@ constexpr double kSameMinimum = 0.8775825618903728;
 constexpr double kCovered = 0.9807852804032304;
 // two seeds closer than this (cos of 1e-3 rad) have found the same minimum
 constexpr double kDuplicate = 0.9999995;
-// ring-ring corrections are over-relaxed: one Gauss-Seidel pass a substep leaves a hanging sheet's
-// contacts short by a share of the weight below them, and 1.3 takes a third of that off (rigid
-// contacts overshoot into a gap, never into each other)
-constexpr double kOverRelaxation = 1.3;
 // the motion the contact solve may add to a pair's in a substep, in wire radii
 constexpr double kSolveMotion = 0.02;
 // a scan (every few substeps) seeds the minima that may touch within this many substeps' motion
@@ -50,7 +46,7 @@ void TorusXpbdSim::solve_pairs(std::vector<RingPairContact>& pairs, double h, bo
 // pose the pair has then: the seeds before it may have pushed), and one closer than two wire
 // radii pushes the rings apart. A seed that cannot touch yet is not solved: its lower bound only
 // shrinks by the substep's motion, so it is solved again before it could touch.
-void TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan) {
+double TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan) {
   const double a = model_.ring.wire_radius, c = model_.ring.centre_radius;
   // m, how much nearer the pair can come in a substep: its rings' own motion, and a margin for
   // what the contact solve moves them
@@ -61,7 +57,7 @@ void TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan) {
     for (int k = 0; k < pair.seeds && !near; ++k) near = pair.seed[k].bound <= touch;
     if (!near) {
       for (int k = 0; k < pair.seeds; ++k) pair.seed[k].bound -= reach, pair.seed[k].recent = false;
-      return;
+      return 0.0;
     }
   }
   CircleFrame fa = circle_of(pair.a), fb = circle_of(pair.b);
@@ -74,6 +70,7 @@ void TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan) {
   }
   bool stale = false;
   int kept = 0;
+  double deepest = 0.0;  // m
   for (int k = 0; k < pair.seeds; ++k) {
     PairSeed seed = pair.seed[k];
     if (seed.bound > touch) {
@@ -113,9 +110,11 @@ void TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan) {
       apply_contact(pair.a, pair.b, seed.normal, 0.5 * (p.first + p.second), depth,
                     model_.ring_friction, h);
       stale = true;
+      deepest = std::max(deepest, depth);
     }
   }
   pair.seeds = kept;
+  return deepest;
 }
 
 // the sampled local minima of the pair's distance that no seed follows and that may come closer
@@ -241,7 +240,7 @@ void TorusXpbdSim::apply_contact(int a, int b, const Vec3& normal, const Vec3& p
                    (ring_b ? generalized_inverse_mass(b, arm_b, normal) : 0.0);
   if (w <= 0.0) return;
   const double stiffness_term = model_.settings.compliance / (h * h);
-  const double lambda = (ring_b ? kOverRelaxation : 1.0) * depth / (w + stiffness_term);
+  const double lambda = (ring_b ? relaxation_ : 1.0) * depth / (w + stiffness_term);
   Vec3 correction = lambda * normal;  // kg m, on a (b takes the opposite)
   bool stuck = false;
 
