@@ -49,9 +49,10 @@ struct BackendInfo {
 };
 
 // Which backends exist and which this binary has. The project has a fixed set of backends
-// (plausible, massspring, bullet, ode); the optional ones (bullet, ode) are built only when the
-// build finds their libraries (CHAINMAIL_WITH_BULLET, CHAINMAIL_WITH_ODE). A name that is known
-// but not built is valid input that this binary cannot run; a name that is not known is bad input.
+// (plausible, massspring, bullet, ode, torus_xpbd); the optional ones (bullet, ode) are built
+// only when the build finds their libraries (CHAINMAIL_WITH_BULLET, CHAINMAIL_WITH_ODE). A name
+// that is known but not built is valid input that this binary cannot run; a name that is not
+// known is bad input.
 // Code outside the project adds its own backends with register_backend(); they follow the
 // project's in the order registered, and every command and lookup below treats them alike.
 

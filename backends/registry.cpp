@@ -25,7 +25,8 @@
   X(plausible, 1)                  \
   X(massspring, 1)                 \
   X(bullet, CHAINMAIL_HAVE_BULLET) \
-  X(ode, CHAINMAIL_HAVE_ODE)
+  X(ode, CHAINMAIL_HAVE_ODE)       \
+  X(torus_xpbd, 1)
 
 namespace chainmail {
 

@@ -46,9 +46,10 @@ Scene scene_with(const json& backends, const std::string& reference = "plausible
 TEST(Registry, KnowsEveryBackendAndHasTheBuiltOnesInTheSameOrder) {
   const std::vector<std::string>& known = known_backend_names();
   // the project's own, then any registered by a test before this one
-  ASSERT_GE(known.size(), 4u);
-  EXPECT_EQ(std::vector<std::string>(known.begin(), known.begin() + 4),
-            (std::vector<std::string>{"plausible", "massspring", "bullet", "ode"}));
+  ASSERT_GE(known.size(), 5u);
+  EXPECT_EQ(std::vector<std::string>(known.begin(), known.begin() + 5),
+            (std::vector<std::string>{"plausible", "massspring", "bullet", "ode",
+                                                       "torus_xpbd"}));
   auto next = known.begin();
   for (const BackendInfo& info : backend_registry()) {
     next = std::find(next, known.end(), info.name);
@@ -60,6 +61,7 @@ TEST(Registry, KnowsEveryBackendAndHasTheBuiltOnesInTheSameOrder) {
   // the build options decide the optional ones; the others are always there
   EXPECT_TRUE(backend_built("plausible"));
   EXPECT_TRUE(backend_built("massspring"));
+  EXPECT_TRUE(backend_built("torus_xpbd"));
   EXPECT_EQ(backend_built("bullet"), kBulletBuilt);
   EXPECT_EQ(backend_built("ode"), kOdeBuilt);
   for (const std::string& name : known) EXPECT_TRUE(backend_known(name)) << name;
@@ -76,7 +78,7 @@ TEST(Registry, RefusesAnUnknownBackendNamingEveryKnownOne) {
     EXPECT_STREQ(error.what(), ("scene.json: key 'backends.havok': unknown backend (known: " +
                                 join_names(known_backend_names()) + ")")
                                    .c_str());
-    EXPECT_TRUE(std::string(error.what()).find("plausible, massspring, bullet, ode") !=
+    EXPECT_TRUE(std::string(error.what()).find("plausible, massspring, bullet, ode, torus_xpbd") !=
                 std::string::npos);
   }
   try {

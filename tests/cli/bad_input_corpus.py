@@ -45,7 +45,8 @@ import time
 SCENE = "corpus-scene.json"  # the scene file's name in every case's inputs folder
 NOBODY = 65534
 
-BACKENDS = ["plausible", "massspring", "bullet", "ode"]
+BACKENDS = ["plausible", "massspring", "bullet", "ode", "torus_xpbd"]
+OPTIONAL_BACKENDS = ["bullet", "ode"]  # a build may lack them
 
 # knob specs of backends/*_backend.cpp: name, type, min, max
 KNOBS = {
@@ -102,6 +103,15 @@ KNOBS = {
         ("max_contacts", "integer", 1, 32),
         ("max_correcting_velocity", "number", 0.0, 1e3),
         ("contact_layer", "number", 0.0, 1.0),
+    ],
+    "torus_xpbd": [
+        ("dt", "number", 1e-6, 0.1),
+        ("substeps", "integer", 1, 10000),
+        ("friction", "number", 0.0, 10.0),
+        ("restitution", "number", 0.0, 1.0),
+        ("compliance", "number", 0.0, 1e3),
+        ("damping", "number", 0.0, 1e4),
+        ("sleeping", "boolean", 0, 1),
     ],
 }
 
@@ -1302,7 +1312,7 @@ def sanitized(binary):
 def probe_backends(runner):
     """backends this build lacks (it names them in a note and skips their knobs)"""
     absent = []
-    for backend in BACKENDS[2:]:
+    for backend in OPTIONAL_BACKENDS:
         doc = base_scene()
         doc["backends"] = {backend: {"dt": "probe"}}
         case = Case("probe", "probe", RUN, (), scene_bytes(doc))

@@ -1,0 +1,58 @@
+// Adapter: rings as rigid tori with exact torus-torus contact in XPBD (core/torus_xpbd.hpp)
+// behind the Backend interface.
+#include "backends/backend.hpp"
+#include "core/torus_xpbd.hpp"
+
+namespace chainmail {
+namespace {
+
+// every knob once, bound to its TorusXpbdSettings field (the field's default is the knob's)
+const KnobTable<TorusXpbdSettings>& torus_xpbd_knobs() {
+  using S = TorusXpbdSettings;
+  static const KnobTable<S> table = [] {
+    KnobTable<S> t;
+    t.time_step(0.005, 1e-6, 0.1, "time step, s");
+    t.integer("substeps", &S::substeps, 1, 10000, "substeps per step, one constraint pass each");
+    t.number("friction", &S::friction, 0.0, 10.0,
+             "factor on the scene's Coulomb coefficients (0: frictionless)");
+    t.number("restitution", &S::restitution, 0.0, 1.0, "normal restitution of every contact");
+    t.number("compliance", &S::compliance, 0.0, 1e3, "contact compliance, m/N (0: rigid)");
+    t.number("damping", &S::damping, 0.0, 1e4, "linear and angular velocity drag, 1/s");
+    t.boolean("sleeping", &S::sleeping,
+              "rings at rest are not integrated until a contact moves them");
+    return t;
+  }();
+  return table;
+}
+
+class TorusXpbdBackend final : public Backend {
+ public:
+  const char* name() const override { return "torus_xpbd"; }
+  void reset(const Scene& scene, const Weave& weave, const Knobs& knobs) override {
+    sim_.reset(scene, weave, torus_xpbd_knobs().settings(knobs));
+  }
+  StepStatus step(double dt) override {
+    return sim_.step(dt) ? StepStatus::ok : StepStatus::non_finite;
+  }
+  void frame(RingFrame& out) const override { sim_.frame(out); }
+  const StageProfile& profile() const override { return sim_.profile(); }
+
+ private:
+  TorusXpbdSim sim_;
+};
+
+}  // namespace
+
+BackendInfo torus_xpbd_backend_info() {
+  BackendInfo info;
+  info.name = "torus_xpbd";
+  info.cost_us_per_ring_step = 30;
+  info.bytes_per_ring = 3000;
+  info.summary = "rigid tori with exact torus-torus contact, extended position-based dynamics";
+  info.knobs = torus_xpbd_knobs().specs();
+  info.knob_round_trip = torus_xpbd_knobs().round_trip();
+  info.create = [] { return std::make_unique<TorusXpbdBackend>(); };
+  return info;
+}
+
+}  // namespace chainmail

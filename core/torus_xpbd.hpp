@@ -1,0 +1,245 @@
+// Rings as rigid tori with exact torus-torus contact, in extended position-based dynamics for
+// rigid bodies (Müller et al. 2020, "Detailed Rigid Body Simulation with Extended Position Based
+// Dynamics"). Every ring keeps its own position, orientation and linear and angular velocity; two
+// rings touch where their centre circles come within two wire radii (circle_contact.hpp), and
+// that one contact serves linked neighbours and every other pair alike: the weave's links are
+// held by contact alone, like real rings.
+//
+// One step: candidate pairs are collected once (linked neighbours always, others through the
+// spatial hash within the reach of the step's motion; links ordered outward from what holds the
+// fabric up), then substeps with one constraint pass each:
+//   integrate     - gravity and the gyroscopic term, positions and orientations predicted
+//   colliders     - the torus's deepest point and four points of its centre circle
+//   contacts      - every pair's seeds (local minima of its centre circles' distance) followed by
+//                   Newton from their last angle, new minima found by a sampled scan every few
+//                   substeps; a seed closer than 2a gets a positional correction with generalised
+//                   inverse masses that include rotation, and static friction at the position
+//                   level
+//                   (then the colliders' static friction once more, after the rings' pull)
+//   velocities    - from the pose change over the substep (and drag)
+//   velocity pass - restitution and dynamic friction at the contacts that pushed
+// A step takes `substeps` substeps, more when rings fly fast: two rings never close in by more
+// than a wire radius between two solves. A seed remembers the side its pair lay on, so wires
+// pushed into each other beyond their circles' crossing are pushed back the way they came.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "core/circle_contact.hpp"
+#include "core/frame.hpp"
+#include "core/profile.hpp"
+#include "core/scene.hpp"
+#include "core/spatial_hash.hpp"
+#include "core/weave.hpp"
+
+namespace chainmail {
+
+struct TorusXpbdSettings {
+  int substeps = 25;         // constraint passes per step
+  double friction = 1.0;     // factor on the scene's Coulomb coefficients (0: frictionless)
+  double restitution = 0.0;  // normal restitution of every contact
+  double compliance = 0.0;   // m/N, contact compliance (0: rigid)
+  double damping = 0.0;      // 1/s, linear and angular velocity drag
+  bool sleeping = false;     // rings at rest are not integrated until a contact moves them
+};
+
+// fixed model: built once from the scene
+struct TorusXpbdModel {
+  RingGeometry ring;
+  std::vector<double> inverse_mass;              // (n) 1/kg, 0 for pinned rings
+  std::vector<double> inertia_diameter;          // (n) kg m^2, about a diameter
+  std::vector<double> inertia_axis;              // (n) kg m^2, about the ring axis
+  std::vector<double> inverse_inertia_diameter;  // (n) 1/(kg m^2), 0 for pinned rings
+  std::vector<double> inverse_inertia_axis;      // (n) 1/(kg m^2), 0 for pinned rings
+  std::vector<RingPair> links;                   // (m) linked neighbours, a < b, sorted
+  std::vector<std::array<int, 4>> neighbours;    // (n) grid neighbours, -1 none
+  std::vector<Collider> colliders;
+  std::vector<double> collider_friction;  // (colliders) Coulomb coefficient times the knob
+  double ring_friction = 0.0;             // ring-ring Coulomb coefficient times the knob
+  Vec3 gravity = Vec3::Zero();            // m/s^2
+  bool self_contact = true;
+  TorusXpbdSettings settings;
+};
+
+// changing state
+struct TorusXpbdState {
+  double t = 0.0;                          // s
+  std::vector<Vec3> position;              // (n) m, ring centre
+  std::vector<Quat> orientation;           // (n) local ring frame -> world
+  std::vector<Vec3> velocity;              // (n) m/s
+  std::vector<Vec3> angular_velocity;      // (n) rad/s, world frame
+  std::vector<Vec3> previous_position;     // (n) m, at the substep's start
+  std::vector<Quat> previous_orientation;  // (n) at the substep's start
+  std::vector<double> still_time;          // (n) s the ring has been at rest (sleeping)
+  std::vector<char> asleep;                // (n) 1: not integrated (sleeping)
+};
+
+// one local minimum of two rings' centre-circle distance, followed from substep to substep
+struct PairSeed {
+  double cos_t = 1.0, sin_t = 0.0;  // the second ring's angle at the last closest point
+  Vec3 normal = Vec3::UnitX();      // unit, from the second ring's closest point to the first's
+  double bound = 0.0;   // m, a lower bound on the distance there now (exact when just solved)
+  bool recent = false;  // solved in the last substep
+};
+
+// two rings that may touch during this step, with the minima of their distance it follows
+struct RingPairContact {
+  int a = 0, b = 0;  // rings, a < b
+  int seeds = 0;     // seeds in use
+  std::array<PairSeed, 3> seed;
+};
+
+// a contact that pushed in this substep, for the velocity pass
+struct ActiveContact {
+  int a = 0, b = -1;            // rings; b = -1: a collider
+  Vec3 normal = Vec3::UnitY();  // unit, pushes a (away from b or out of the collider)
+  Vec3 arm_a, arm_b;            // m, contact point minus each ring's centre
+  double lambda = 0.0;          // kg m, the normal correction's multiplier
+  double w = 0.0;               // 1/kg, the generalised inverse masses along the normal
+  double approach = 0.0;        // m/s, normal speed before the solve (< 0: approaching)
+  double friction = 0.0;        // Coulomb coefficient
+};
+
+// a collider contact that static friction held in this substep
+struct ColliderHold {
+  int ring = 0;
+  Vec3 local_arm;         // m, the contact point in the ring's frame
+  Vec3 normal;            // unit, out of the collider
+  double lambda = 0.0;    // kg m, the normal multiplier
+  double friction = 0.0;  // Coulomb coefficient
+};
+
+// a ring within reach of a collider during this step
+struct ColliderCandidate {
+  int ring = 0, collider = 0;
+  double cos_s = 1.0, sin_s = 0.0;  // the last deepest point's angle on the ring's centre circle
+  bool followed = false;            // that angle is from the last substep
+};
+
+class TorusXpbdSim {
+ public:
+  void reset(const Scene& scene, const Weave& weave, const TorusXpbdSettings& settings);
+  // one step of dt in `substeps` substeps; false once the state is not finite
+  bool step(double dt);
+  void frame(RingFrame& out) const;
+
+  const TorusXpbdModel& model() const { return model_; }
+  const TorusXpbdState& state() const { return state_; }
+  TorusXpbdState& mutable_state() { return state_; }
+  const StageProfile& profile() const { return profile_; }
+  // the pairs of the current step and their seeds: linked neighbours, other pairs
+  const std::vector<RingPairContact>& link_pairs() const { return link_pairs_; }
+  const std::vector<RingPairContact>& other_pairs() const { return other_pairs_; }
+  // translational + rotational kinetic energy plus gravitational potential energy, J
+  double energy() const;
+
+ private:
+  void reset_scratch();
+  // the step's phases (torus_xpbd.cpp)
+  void collect_pairs(double dt);
+  void integrate(double h);
+  void update_velocities(double h);
+  void update_sleep(double dt);
+  bool finite() const;
+  // contacts (torus_xpbd_contacts.cpp)
+  void solve_links(double h, bool scan);
+  void solve_pairs(std::vector<RingPairContact>& pairs, double h, bool scan);
+  void order_links();
+  // the deepest depth it corrected, m
+  double solve_pair(RingPairContact& pair, double h, bool scan);
+  void find_new_minima(RingPairContact& pair, const CirclePairDistance& distance, double limit);
+  void solve_colliders(double h, bool scan);
+  void apply_contact(int a, int b, const Vec3& normal, const Vec3& point, double depth,
+                     double friction, double h);
+  void merge_contacts(std::size_t first, double h);
+  void hold_collider_friction(double h);
+  void velocity_pass(double h);
+  // rigid-body helpers
+  Vec3 inverse_inertia_times(int ring, const Vec3& v) const;
+  double generalized_inverse_mass(int ring, const Vec3& arm, const Vec3& direction) const;
+  void apply_correction(int ring, const Vec3& arm, const Vec3& impulse);
+  void apply_impulse(int ring, const Vec3& arm, const Vec3& impulse);
+  Vec3 point_velocity(int ring, const Vec3& arm) const;
+  CircleFrame circle_of(int ring) const;  // its centre circle, from the cached rotation
+
+  TorusXpbdModel model_;
+  TorusXpbdState state_;
+  SpatialHash hash_;
+  StageProfile profile_;
+  // per-step and per-substep scratch, kept between steps so the loops do not allocate
+  std::vector<double> reach_;   // (n) m/s, bound on the speed of any point of each ring
+  std::vector<double> travel_;  // (n) m, how far any point of each ring moves in this substep
+  double fastest_ = 0.0;        // m/s, the largest of them
+  Positions centres_;           // (3, n) m, ring centres for the spatial hash
+  std::vector<RingPair> hash_pairs_;
+  std::vector<RingPairContact> link_pairs_, other_pairs_, previous_pairs_;
+  // links in the order they are solved: outward from what holds the fabric up (pins, and rings
+  // that touched a collider in the last step), by breadth-first depth
+  std::vector<int> link_order_;
+  std::vector<int> support_depth_;  // (n) links from the nearest support, -1 none
+  std::vector<int> queue_;          // (n) breadth-first scratch
+  std::vector<char> touching_;      // (n) 1: touched a collider in this step
+  std::vector<int> retry_;          // links solved once more in this substep
+  // ring-ring corrections of the first pass are over-relaxed: one Gauss-Seidel pass a substep
+  // leaves a hanging sheet's contacts short by a share of the weight below them, and 1.3 takes a
+  // third of that off (rigid contacts overshoot into a gap, never into each other)
+  static constexpr double kOverRelaxation = 1.3;
+  double relaxation_ = kOverRelaxation;
+  std::vector<ColliderCandidate> collider_candidates_, previous_candidates_;
+  std::vector<ActiveContact> active_;
+  std::vector<ColliderHold> collider_holds_;
+  std::vector<Mat3> rotation_;  // (n) each ring's orientation as a matrix, kept in step with it
+  std::vector<Mat3> previous_rotation_;  // (n) the same at the substep's start
+};
+
+// ---- rigid-body helpers, inline for the contact loops. The inertia of a torus is symmetric
+// about its axis, so its inverse in world space is I_d^-1 + (I_a^-1 - I_d^-1) axis axis^T: no
+// matrix to rotate
+
+inline Vec3 TorusXpbdSim::inverse_inertia_times(int ring, const Vec3& v) const {
+  const auto axis = rotation_[ring].col(1);
+  const double across = model_.inverse_inertia_diameter[ring];
+  return across * v + ((model_.inverse_inertia_axis[ring] - across) * axis.dot(v)) * axis;
+}
+
+// 1/m + (r x d) . I^-1 (r x d): the inverse mass a correction along `direction` at `arm` meets
+inline double TorusXpbdSim::generalized_inverse_mass(int ring, const Vec3& arm,
+                                                     const Vec3& direction) const {
+  if (model_.inverse_mass[ring] == 0.0) return 0.0;
+  const Vec3 lever = arm.cross(direction);
+  return model_.inverse_mass[ring] + lever.dot(inverse_inertia_times(ring, lever));
+}
+
+// a positional correction (kg m) at `arm`: the centre moves by impulse / m, the orientation turns
+// by I^-1 (arm x impulse)
+inline void TorusXpbdSim::apply_correction(int ring, const Vec3& arm, const Vec3& impulse) {
+  const double w = model_.inverse_mass[ring];
+  if (w == 0.0) return;
+  state_.position[ring] += w * impulse;
+  const Vec3 spin = inverse_inertia_times(ring, arm.cross(impulse));
+  Quat& q = state_.orientation[ring];
+  const Quat turn = Quat(0.0, spin.x(), spin.y(), spin.z()) * q;
+  q.coeffs() += 0.5 * turn.coeffs();
+  q.normalize();
+  rotation_[ring] = q.toRotationMatrix();
+}
+
+inline void TorusXpbdSim::apply_impulse(int ring, const Vec3& arm, const Vec3& impulse) {
+  const double w = model_.inverse_mass[ring];
+  if (w == 0.0) return;
+  state_.velocity[ring] += w * impulse;
+  state_.angular_velocity[ring] += inverse_inertia_times(ring, arm.cross(impulse));
+}
+
+inline Vec3 TorusXpbdSim::point_velocity(int ring, const Vec3& arm) const {
+  return state_.velocity[ring] + state_.angular_velocity[ring].cross(arm);
+}
+
+inline CircleFrame TorusXpbdSim::circle_of(int ring) const {
+  const Mat3& r = rotation_[ring];
+  return CircleFrame{state_.position[ring], r.col(0), r.col(2), r.col(1),
+                     model_.ring.centre_radius};
+}
+
+}  // namespace chainmail

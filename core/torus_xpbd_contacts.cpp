@@ -1,0 +1,330 @@
+// The rigid-torus XPBD model: seeds, the contact solve (ring against ring, ring against
+// collider), and the velocity pass.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/circle_contact.hpp"
+#include "core/colliders.hpp"
+#include "core/torus_colliders.hpp"
+#include "core/torus_xpbd.hpp"
+
+namespace chainmail {
+namespace {
+
+// a seed's angle may move this far (cos of 0.5 rad) in a substep and still follow one minimum
+constexpr double kSameMinimum = 0.8775825618903728;
+// a sampled minimum within a sample spacing (cos of pi / 16) of a seed, and not below the seed's
+// own distance, is the seed's; any other is refined, and kept unless it finds a seed's minimum
+constexpr double kCovered = 0.9807852804032304;
+// two seeds closer than this (cos of 1e-3 rad) have found the same minimum
+constexpr double kDuplicate = 0.9999995;
+// the motion the contact solve may add to a pair's in a substep, in wire radii
+constexpr double kSolveMotion = 0.02;
+// a scan (every few substeps) seeds the minima that may touch within this many substeps' motion
+constexpr double kScanReach = 4.0;
+// Newton steps from a seed's last angle: one when it was solved in the last substep (the pair
+// moved little since), more when it rested a few substeps
+constexpr int kSubstepNewton = 1;
+constexpr int kResumeNewton = 3;
+// the four points of a ring's centre circle that rest on colliders beside the deepest one,
+// (cos, sin) of k pi / 2: a ring lying flat stands on them
+constexpr double kSupport[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+
+double angle_cos(const PairSeed& seed, double c, double s) {
+  return seed.cos_t * c + seed.sin_t * s;
+}
+
+}  // namespace
+
+void TorusXpbdSim::solve_pairs(std::vector<RingPairContact>& pairs, double h, bool scan) {
+  for (RingPairContact& pair : pairs) solve_pair(pair, h, scan);
+}
+
+// one pair in one substep: new minima that could touch before the next scan are seeded (when
+// `scan`); then each seed that may touch in this substep is followed from its last angle (on the
+// pose the pair has then: the seeds before it may have pushed), and one closer than two wire
+// radii pushes the rings apart. A seed that cannot touch yet is not solved: its lower bound only
+// shrinks by the substep's motion, so it is solved again before it could touch.
+double TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan) {
+  const double a = model_.ring.wire_radius, c = model_.ring.centre_radius;
+  // m, how much nearer the pair can come in a substep: its rings' own motion, and a margin for
+  // what the contact solve moves them
+  const double reach = travel_[pair.a] + travel_[pair.b] + kSolveMotion * a;
+  const double touch = 2.0 * a + reach;  // m, a seed whose bound is above cannot touch now
+  if (!scan) {
+    bool near = false;
+    for (int k = 0; k < pair.seeds && !near; ++k) near = pair.seed[k].bound <= touch;
+    if (!near) {
+      for (int k = 0; k < pair.seeds; ++k) pair.seed[k].bound -= reach, pair.seed[k].recent = false;
+      return 0.0;
+    }
+  }
+  CircleFrame fa = circle_of(pair.a), fb = circle_of(pair.b);
+  if (scan) {
+    // the minima that the pair's own motion, or the fastest ring's of the step (a ring hit
+    // between two scans may move as fast), could bring into contact before the next scan
+    const double fast = 2.0 * fastest_ * h + kSolveMotion * a;
+    const double limit = 2.0 * a + kScanReach * std::max(reach, fast);
+    find_new_minima(pair, CirclePairDistance(fa, fb), limit);
+  }
+  bool stale = false;
+  int kept = 0;
+  double deepest = 0.0;  // m
+  for (int k = 0; k < pair.seeds; ++k) {
+    PairSeed seed = pair.seed[k];
+    if (seed.bound > touch) {
+      seed.bound -= reach, seed.recent = false;
+      pair.seed[kept++] = seed;
+      continue;
+    }
+    if (stale) {
+      fa = circle_of(pair.a), fb = circle_of(pair.b);
+      stale = false;
+    }
+    const ClosestPoints p = CirclePairDistance(fa, fb).refine(
+        seed.cos_t, seed.sin_t, seed.recent ? kSubstepNewton : kResumeNewton, 1e-10);
+    // the side is the seed's while it follows one minimum: circles that crossed within the
+    // substep (wires pushed through each other) have their gap reversed, a negative distance
+    const bool same = seed.recent && angle_cos(seed, p.cos_t, p.sin_t) > kSameMinimum;
+    double distance = p.distance;
+    if (p.distance > 1e-12 * c) {
+      const Vec3 normal = (p.first - p.second) / p.distance;
+      if (same && normal.dot(seed.normal) < 0.0) {
+        seed.normal = -normal, distance = -distance;
+      } else {
+        seed.normal = normal;
+      }
+    }
+    seed.cos_t = p.cos_t, seed.sin_t = p.sin_t;
+    seed.bound = p.distance, seed.recent = true;
+    // a seed that found an earlier one's minimum is dropped (far ones stay: their bound keeps
+    // them unsolved until they come near)
+    bool keep = true;
+    for (int j = 0; j < kept && keep; ++j)
+      keep = angle_cos(pair.seed[j], seed.cos_t, seed.sin_t) < kDuplicate;
+    if (!keep) continue;
+    pair.seed[kept++] = seed;
+    const double depth = 2.0 * a - distance;
+    if (depth > 0.0) {
+      apply_contact(pair.a, pair.b, seed.normal, 0.5 * (p.first + p.second), depth,
+                    model_.ring_friction, h);
+      stale = true;
+      deepest = std::max(deepest, depth);
+    }
+  }
+  pair.seeds = kept;
+  return deepest;
+}
+
+// the sampled local minima of the pair's distance that no seed follows and that may come closer
+// than `limit` (m): refined and seeded, up to three seeds a pair (one that turns out farther is
+// still kept, so that the next scans know it; a full pair gives up its farthest seed for a
+// nearer minimum). A sample is a seed's when the seed is within a sample spacing of it and the
+// sample is no nearer than the seed's bound.
+void TorusXpbdSim::find_new_minima(RingPairContact& pair, const CirclePairDistance& distance,
+                                   double limit) {
+  // the distance moves at most r per radian along the circle: half a sample spacing may hide this
+  constexpr int kSamples = CirclePairDistance::kSamples;
+  const double hidden = model_.ring.centre_radius * std::numbers::pi / kSamples;
+  const double reach2 = (limit + hidden) * (limit + hidden);
+  double f[kSamples];
+  distance.sample(f);
+  if (*std::min_element(f, f + kSamples) > reach2) return;
+  const auto& angle = CirclePairDistance::samples();
+  for (int k = 0; k < kSamples; ++k) {
+    if (f[k] > reach2 || f[k] > f[(k + kSamples - 1) % kSamples] || f[k] >= f[(k + 1) % kSamples])
+      continue;
+    bool covered = false;
+    for (int j = 0; j < pair.seeds && !covered; ++j) {
+      covered = angle_cos(pair.seed[j], angle.c[k], angle.s[k]) > kCovered &&
+                f[k] >= pair.seed[j].bound * pair.seed[j].bound;
+    }
+    if (covered) continue;
+    const ClosestPoints p = distance.refine(angle.c[k], angle.s[k], 8, 1e-9);
+    for (int j = 0; j < pair.seeds && !covered; ++j)
+      covered = angle_cos(pair.seed[j], p.cos_t, p.sin_t) > kDuplicate;
+    if (covered) continue;
+    int slot = pair.seeds;
+    if (slot < static_cast<int>(pair.seed.size())) {
+      ++pair.seeds;
+    } else {
+      // full: the farthest seed, if this minimum is nearer
+      slot = 0;
+      for (int j = 1; j < pair.seeds; ++j)
+        if (pair.seed[j].bound > pair.seed[slot].bound) slot = j;
+      if (pair.seed[slot].bound <= p.distance) continue;
+    }
+    PairSeed& seed = pair.seed[slot];
+    seed.cos_t = p.cos_t, seed.sin_t = p.sin_t;
+    seed.bound = p.distance, seed.recent = true;
+    seed.normal = p.distance > 1e-12 * model_.ring.centre_radius
+                      ? Vec3((p.first - p.second) / p.distance)
+                      : Vec3((state_.position[pair.a] - state_.position[pair.b]).normalized());
+  }
+}
+
+// each ring near a collider: the torus's deepest point, then four points of its centre circle
+// (a ring lying flat rests on all of them)
+void TorusXpbdSim::solve_colliders(double h, bool scan) {
+  auto scope = profile_.scope("colliders");
+  const double a = model_.ring.wire_radius, c = model_.ring.centre_radius;
+  for (ColliderCandidate& candidate : collider_candidates_) {
+    const int i = candidate.ring;
+    const Collider& collider = model_.colliders[candidate.collider];
+    const double friction = model_.collider_friction[candidate.collider];
+    // nowhere within a wire radius of it: nothing to do
+    if (circle_collider_lower_bound(collider, circle_of(i)) >= a) {
+      candidate.followed = false;
+      continue;
+    }
+    const std::size_t first = active_.size();
+    // from the last substep's deepest angle, from scratch at every scan
+    const CirclePointContact deepest =
+        candidate.followed && !scan
+            ? deepest_circle_point_near(collider, circle_of(i), candidate.cos_s, candidate.sin_s)
+            : deepest_circle_point(collider, circle_of(i));
+    candidate.cos_s = deepest.cos_s, candidate.sin_s = deepest.sin_s, candidate.followed = true;
+    if (deepest.distance < a) {
+      apply_contact(i, -1, deepest.normal, deepest.point - a * deepest.normal, a - deepest.distance,
+                    friction, h);
+      touching_[i] = 1;
+    }
+    for (const auto& angle : kSupport) {
+      const Vec3 point = state_.position[i] +
+                         c * (angle[0] * rotation_[i].col(0) + angle[1] * rotation_[i].col(2));
+      Vec3 normal;
+      const double distance = collider_distance(collider, point, normal);
+      if (distance < a) apply_contact(i, -1, normal, point - a * normal, a - distance, friction, h);
+    }
+    merge_contacts(first, h);
+  }
+}
+
+// the contacts of one ring with one collider since `first` become one for the velocity pass, at
+// their multiplier-weighted mean point and normal: one ring bounces off one surface once (points
+// bounced one after the other would each spin it, and a flat ring would leap)
+void TorusXpbdSim::merge_contacts(std::size_t first, double h) {
+  if (active_.size() <= first + 1) return;
+  ActiveContact merged = active_[first];
+  Vec3 arm = Vec3::Zero(), normal = Vec3::Zero();
+  double lambda = 0.0, friction = 0.0;
+  for (std::size_t k = first; k < active_.size(); ++k) {
+    const ActiveContact& contact = active_[k];
+    arm += contact.lambda * contact.arm_a;
+    normal += contact.lambda * contact.normal;
+    lambda += contact.lambda;
+    friction = std::max(friction, contact.friction);
+  }
+  if (lambda <= 0.0 || normal.squaredNorm() == 0.0) return;
+  merged.arm_a = arm / lambda;
+  merged.normal = normal.normalized();
+  merged.lambda = lambda;
+  merged.friction = friction;
+  merged.w = generalized_inverse_mass(merged.a, merged.arm_a, merged.normal);
+  merged.approach = merged.normal.dot(point_velocity(merged.a, merged.arm_a) - h * model_.gravity);
+  active_.resize(first);
+  if (merged.w > 0.0) active_.push_back(merged);
+}
+
+// one contact's positional correction along `normal` (pushing a; b = -1: a static collider),
+// depth m at `point`, with static friction: the contact point's slip over the substep is undone
+// with it when that takes less than friction times the normal multiplier. One correction of each
+// ring carries both.
+void TorusXpbdSim::apply_contact(int a, int b, const Vec3& normal, const Vec3& point, double depth,
+                                 double friction, double h) {
+  const bool ring_b = b >= 0;
+  const Vec3 arm_a = point - state_.position[a];
+  const Vec3 arm_b = ring_b ? Vec3(point - state_.position[b]) : Vec3::Zero();
+  const double w = generalized_inverse_mass(a, arm_a, normal) +
+                   (ring_b ? generalized_inverse_mass(b, arm_b, normal) : 0.0);
+  if (w <= 0.0) return;
+  const double stiffness_term = model_.settings.compliance / (h * h);
+  const double lambda = (ring_b ? relaxation_ : 1.0) * depth / (w + stiffness_term);
+  Vec3 correction = lambda * normal;  // kg m, on a (b takes the opposite)
+  bool stuck = false;
+
+  if (friction > 0.0) {
+    // where the contact point was at the substep's start, on each ring
+    Vec3 slip = point - state_.previous_position[a] -
+                previous_rotation_[a] * (rotation_[a].transpose() * arm_a);
+    if (ring_b) {
+      slip -= point - state_.previous_position[b] -
+              previous_rotation_[b] * (rotation_[b].transpose() * arm_b);
+    }
+    slip -= slip.dot(normal) * normal;
+    const double length = slip.norm();
+    if (length > 0.0) {
+      const Vec3 tangent = slip / length;
+      const double wt = generalized_inverse_mass(a, arm_a, tangent) +
+                        (ring_b ? generalized_inverse_mass(b, arm_b, tangent) : 0.0);
+      const double lambda_t = length / (wt + stiffness_term);
+      if (wt > 0.0 && lambda_t < friction * lambda) correction -= lambda_t * tangent, stuck = true;
+    }
+  }
+  // the approach speed at the substep's start, before gravity's pull in it (against a collider;
+  // between rings it cancels): a bounce returns no more than the speed the contact met
+  Vec3 relative = point_velocity(a, arm_a);
+  if (ring_b) relative -= point_velocity(b, arm_b);
+  if (!ring_b) relative -= h * model_.gravity;
+  // every contact that pushed meets dynamic friction in the velocity pass, held or not (it only
+  // takes sliding speed away, never more than there is): a held contact's velocity still carries
+  // the slip that the contacts solved after it brought
+  active_.push_back({a, b, normal, arm_a, arm_b, lambda, w, normal.dot(relative), friction});
+  // a ring held by a collider's static friction is held again after the rings' own contacts
+  if (stuck && !ring_b)
+    collider_holds_.push_back({a, rotation_[a].transpose() * arm_a, normal, lambda, friction});
+  apply_correction(a, arm_a, correction);
+  if (ring_b) apply_correction(b, arm_b, -correction);
+}
+
+// static friction against the colliders once more, after the rings' contacts have moved the rings:
+// each held contact point's slip over the substep is undone again where friction can (otherwise
+// the rings' pull drags a sheet over a table a little every substep)
+void TorusXpbdSim::hold_collider_friction(double h) {
+  auto scope = profile_.scope("colliders");
+  const double stiffness_term = model_.settings.compliance / (h * h);
+  for (const ColliderHold& hold : collider_holds_) {
+    const int i = hold.ring;
+    const Vec3 arm = rotation_[i] * hold.local_arm;
+    Vec3 slip = state_.position[i] + arm - state_.previous_position[i] -
+                previous_rotation_[i] * hold.local_arm;
+    slip -= slip.dot(hold.normal) * hold.normal;
+    const double length = slip.norm();
+    if (length == 0.0) continue;
+    const Vec3 tangent = slip / length;
+    const double lambda_t = length / (generalized_inverse_mass(i, arm, tangent) + stiffness_term);
+    if (lambda_t < hold.friction * hold.lambda) apply_correction(i, arm, -lambda_t * tangent);
+  }
+}
+
+// restitution and dynamic friction on the velocities the substep produced, at every contact that
+// pushed in it: one impulse, whose normal part leaves e times the approach speed (0 for resting
+// contact) and whose tangential part takes from the sliding speed at most friction times the
+// normal impulse lambda / h, each part through the inverse mass along its own direction
+void TorusXpbdSim::velocity_pass(double h) {
+  auto scope = profile_.scope("velocity_pass");
+  const double resting = 2.0 * model_.gravity.norm() * h;  // m/s, slower contacts do not bounce
+  for (const ActiveContact& contact : active_) {
+    const bool ring_b = contact.b >= 0;
+    Vec3 relative = point_velocity(contact.a, contact.arm_a);
+    if (ring_b) relative -= point_velocity(contact.b, contact.arm_b);
+    const Vec3& n = contact.normal;
+    const double normal_speed = n.dot(relative);
+    const double e = std::abs(normal_speed) <= resting ? 0.0 : model_.settings.restitution;
+    Vec3 impulse = ((std::max(-e * contact.approach, 0.0) - normal_speed) / contact.w) * n;
+    const Vec3 sliding = relative - normal_speed * n;
+    const double slide = sliding.norm();
+    if (contact.friction > 0.0 && slide > 0.0) {
+      const Vec3 tangent = sliding / slide;
+      const double wt =
+          generalized_inverse_mass(contact.a, contact.arm_a, tangent) +
+          (ring_b ? generalized_inverse_mass(contact.b, contact.arm_b, tangent) : 0.0);
+      impulse -= std::min(contact.friction * contact.lambda / h, slide / wt) * tangent;
+    }
+    apply_impulse(contact.a, contact.arm_a, impulse);
+    if (ring_b) apply_impulse(contact.b, contact.arm_b, -impulse);
+  }
+}
+
+}  // namespace chainmail

@@ -1,0 +1,219 @@
+// The rigid-torus XPBD model (core/torus_xpbd.hpp) against closed forms: a ring at rest on every
+// collider type within 0.02 a of its surface, a ring hanging from a pinned ring with the contact
+// where the wires hook, bounces that never gain energy, determinism and sleeping.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/harness/scene_file.hpp"
+#include "core/circle_contact.hpp"
+#include "core/colliders.hpp"
+#include "core/metrics.hpp"
+#include "core/torus_xpbd.hpp"
+
+namespace chainmail {
+namespace {
+
+using json = nlohmann::json;
+
+constexpr double kDt = 0.005;  // s, the backend's default step
+
+// a scene, its layout and the model reset on them, stepped at kDt
+struct Sim {
+  Scene scene;
+  Weave weave;
+  TorusXpbdSim sim;
+  Sim(const json& document, const TorusXpbdSettings& settings, const Quat* orientation = nullptr)
+      : scene(scene_from_json(document, "test")), weave(make_weave(scene.weave, scene.ring)) {
+    if (orientation) {
+      for (int i = 0; i < weave.size(); ++i)
+        weave.rest_orientation.col(i) << orientation->w(), orientation->x(), orientation->y(),
+            orientation->z();
+    }
+    sim.reset(scene, weave, settings);
+  }
+  void advance(double seconds) {
+    for (long long k = std::llround(seconds / kDt); k > 0; --k) ASSERT_TRUE(sim.step(kDt));
+  }
+  const TorusXpbdState& state() const { return sim.state(); }
+};
+
+json one_ring(double height) {
+  return {{"name", "one_ring"},
+          {"weave", {{"type", "4in1"}, {"rows", 1}, {"cols", 1}, {"center", {0, height, 0}}}},
+          {"duration", 1.0}};
+}
+
+// how deep the exact torus (every point within a of the centre circle) is inside the collider:
+// the centre circle densely sampled
+double torus_depth(const Collider& collider, const TorusXpbdState& state, double c, double a) {
+  const CircleFrame circle = ring_frame(state.position[0], state.orientation[0], c);
+  double nearest = 1e300;
+  for (int k = 0; k < 3600; ++k) {
+    const double s = 2.0 * std::numbers::pi * k / 3600;
+    Vec3 normal;
+    nearest =
+        std::min(nearest, collider_distance(collider, circle.at(std::cos(s), std::sin(s)), normal));
+  }
+  return a - nearest;
+}
+
+TEST(TorusXpbd, RestsOnEveryColliderTypeWithinTwoHundredthsOfTheWireRadius) {
+  const double top = 0.01;  // m, each collider's top surface
+  const std::vector<json> colliders = {
+      {{"type", "plane"}, {"point", {0.0, top, 0.0}}},
+      {{"type", "sphere"}, {"center", {0.0, top - 0.05, 0.0}}, {"radius", 0.05}},
+      {{"type", "box"}, {"center", {0.0, top - 0.02, 0.0}}, {"half_extents", {0.05, 0.02, 0.05}}},
+      {{"type", "cylinder"},
+       {"center", {0.0, top - 0.02, 0.0}},
+       {"radius", 0.05},
+       {"half_height", 0.02}}};
+  for (const json& collider : colliders) {
+    for (const double tilt : {0.0, 0.6}) {
+      SCOPED_TRACE(collider["type"].get<std::string>() + " tilt " + std::to_string(tilt));
+      json document = one_ring(top + 0.01);
+      document["colliders"] = {collider};
+      const Quat leaning(Eigen::AngleAxisd(tilt, Vec3(1, 0, 1).normalized()));
+      Sim run(document, TorusXpbdSettings{}, &leaning);
+      run.advance(0.8);
+      const double a = run.scene.ring.wire_radius, c = run.scene.ring.centre_radius;
+      const double depth = torus_depth(run.scene.colliders[0], run.state(), c, a);
+      EXPECT_LE(depth, 0.02 * a);
+      EXPECT_GE(depth, -0.02 * a) << "resting on it, not above it";
+      EXPECT_LT(run.state().velocity[0].norm(), 1e-3);
+    }
+  }
+}
+
+TEST(TorusXpbd, ARingHangsFromAPinnedRingWhereTheWiresHook) {
+  // two chain links, the first pinned in the x/y plane: the second slides to the bottom of the
+  // first's wire and hangs there (no friction to hold it aside), its centre the inner diameter
+  // below the first's, the two centre circles 2a apart at the first's lowest point
+  const json document = {
+      {"name", "two_links"},
+      {"weave", {{"type", "chain"}, {"cols", 2}, {"plane", "xy"}, {"spacing", 0.9}}},
+      {"pins", {{{"ring", 0}}}},
+      {"duration", 1.0}};
+  TorusXpbdSettings settings;
+  settings.friction = 0.0;
+  settings.damping = 5.0;
+  Sim run(document, settings);
+  run.advance(3.0);
+  const RingGeometry& ring = run.scene.ring;
+  const double a = ring.wire_radius, c = ring.centre_radius;
+  const Vec3 top = run.state().position[0], hanging = run.state().position[1];
+  EXPECT_NEAR(hanging.x(), top.x(), 0.02 * a);
+  EXPECT_NEAR(hanging.z(), top.z(), 0.02 * a);
+  EXPECT_NEAR(top.y() - hanging.y(), ring.inner_diameter(), 0.02 * a);
+  const ClosestPoints contact = closest_points(ring_frame(top, run.state().orientation[0], c),
+                                               ring_frame(hanging, run.state().orientation[1], c));
+  EXPECT_NEAR(contact.distance, 2.0 * a, 0.02 * a);
+  EXPECT_LT((contact.first - (top - c * Vec3::UnitY())).norm(), 0.05 * a);
+  EXPECT_LT(run.state().velocity[1].norm(), 1e-3);
+}
+
+TEST(TorusXpbd, AFrictionlessBounceNeverGainsEnergy) {
+  for (const double restitution : {0.0, 0.5, 1.0}) {
+    for (const double tilt : {0.0, 0.3, 1.2}) {
+      SCOPED_TRACE("restitution " + std::to_string(restitution) + " tilt " + std::to_string(tilt));
+      json document = one_ring(0.02);
+      document["colliders"] = {{{"type", "plane"}, {"point", {0, 0, 0}}, {"friction", 0.0}}};
+      TorusXpbdSettings settings;
+      settings.restitution = restitution;
+      const Quat leaning(Eigen::AngleAxisd(tilt, Vec3::UnitX()));
+      Sim run(document, settings, &leaning);
+      const double start = run.sim.energy();
+      double highest = start, rebound = 0.0;
+      bool landed = false;
+      for (int k = 0; k < 400; ++k) {
+        run.advance(kDt);
+        highest = std::max(highest, run.sim.energy());
+        landed |= run.state().position[0].y() < 0.005;
+        if (landed) rebound = std::max(rebound, run.state().position[0].y());
+      }
+      EXPECT_LE(highest, start * (1.0 + 1e-12));
+      // it did bounce, as high as its restitution lets it (the energy goes as e^2, some into spin)
+      if (restitution == 1.0) {
+        EXPECT_GT(rebound, 0.01);
+      } else if (restitution == 0.0) {
+        EXPECT_LT(rebound, 0.005);
+      }
+    }
+  }
+}
+
+// eight rings of a chain falling onto a floor and folding onto each other
+json pile() {
+  return {{"name", "pile"},
+          {"weave", {{"type", "chain"}, {"cols", 8}, {"plane", "yx"}, {"center", {0, 0.04, 0}}}},
+          {"colliders", {{{"type", "plane"}, {"point", {0, 0, 0}}}}},
+          {"features", {{"self_contact", true}}},
+          {"duration", 1.0}};
+}
+
+TEST(TorusXpbd, TheSameSceneGivesTheSameHash) {
+  Sim first(pile(), TorusXpbdSettings{}), second(pile(), TorusXpbdSettings{});
+  RingFrame frame;
+  first.sim.frame(frame);
+  const std::uint64_t start = frame_hash(frame);
+  first.advance(0.3);
+  second.advance(0.3);
+  first.sim.frame(frame);
+  const std::uint64_t end = frame_hash(frame);
+  second.sim.frame(frame);
+  EXPECT_EQ(frame_hash(frame), end);
+  EXPECT_NE(end, start);
+  // and a reset starts over exactly
+  first.sim.reset(first.scene, first.weave, TorusXpbdSettings{});
+  first.advance(0.3);
+  first.sim.frame(frame);
+  EXPECT_EQ(frame_hash(frame), end);
+}
+
+TEST(TorusXpbd, FallingChainsPileUpWithoutPassingThroughThemselves) {
+  // the bench's chain pile at several lengths: the chain's end hits the floor at 1.5 m/s and the
+  // rest folds onto it; every link must stay linked and no other pair may become linked
+  for (const int rings : {20, 30, 50}) {
+    SCOPED_TRACE(std::to_string(rings) + " rings");
+    Scene scene = load_scene_file(CHAINMAIL_SOURCE_DIR "/bench/scenes/chain_pile.json",
+                                  {"weave.cols=" + std::to_string(rings)});
+    const Weave weave = make_weave(scene.weave, scene.ring);
+    TorusXpbdSim sim;
+    sim.reset(scene, weave, TorusXpbdSettings{});
+    RingFrame frame;
+    for (int sample = 0; sample < 10; ++sample) {
+      for (int k = 0; k < 24; ++k) ASSERT_TRUE(sim.step(kDt));
+      sim.frame(frame);
+      const Metrics m = measure(frame, weave, scene);
+      ASSERT_EQ(m.broken_links, 0) << "t = " << frame.t;
+      ASSERT_EQ(m.false_links, 0) << "t = " << frame.t;
+    }
+  }
+}
+
+TEST(TorusXpbd, ARingAtRestSleepsAndWakesWhenHit) {
+  json document = one_ring(0.002);
+  document["colliders"] = {{{"type", "plane"}, {"point", {0, 0, 0}}}};
+  TorusXpbdSettings settings;
+  settings.sleeping = true;
+  const Quat flat = Quat::Identity();
+  Sim run(document, settings, &flat);
+  run.advance(1.0);
+  ASSERT_TRUE(run.state().asleep[0]);
+  const Vec3 resting = run.state().position[0];
+  run.advance(0.5);
+  EXPECT_EQ(run.state().position[0], resting);  // not integrated: it does not creep
+  // a blow from below (the floor moved into it) moves it and wakes it
+  run.sim.mutable_state().position[0].y() -= 0.2 * run.scene.ring.wire_radius;
+  run.advance(0.05);
+  EXPECT_FALSE(run.state().asleep[0]);
+}
+
+}  // namespace
+}  // namespace chainmail
