@@ -126,6 +126,7 @@ bool turn_pair(const Positions& p, const Weave& weave, Orientations& o, int i, i
   for (size_t a = 0; a < ci.q.size(); ++a) {
     const Circle mine = ring_circle(p.col(i), ci.q[a], c);
     for (size_t b = 0; b < ck.q.size(); ++b) {
+      if (ci.linked[a] + ck.linked[b] + 2 < best) continue;  // cannot win even if linked
       const int pair = circles_linked(mine, ring_circle(p.col(k), ck.q[b], c));
       const int score = ci.linked[a] + ck.linked[b] + 2 * pair;
       const double turn = ci.turn[a] + ck.turn[b];
