@@ -64,7 +64,120 @@ bool borrow_axis(const std::vector<GridAxes>& axes, const std::array<int, 4>& nb
   return false;
 }
 
+Circle circle_of(const Positions& p, const Orientations& o, int i, double c) {
+  return ring_circle(p.col(i), quat_at(o, i), c);
+}
+
+// neighbours of ring i whose centre circle links ring i's when ring i has orientation q
+int linked_count(const Positions& p, const Weave& weave, const Orientations& o, int i,
+                 const Quat& q, double c) {
+  const Circle mine = ring_circle(p.col(i), q, c);
+  int count = 0;
+  for (int k : weave.neighbours[i]) {
+    if (k >= 0) count += circles_linked(mine, circle_of(p, o, k, c));
+  }
+  return count;
+}
+
+int neighbour_count(const Weave& weave, int i) {
+  int count = 0;
+  for (int k : weave.neighbours[i]) count += k >= 0;
+  return count;
+}
+
+// one ring's candidate turns about its local X and Z axes, 7.5 degrees apart up to 90 either way,
+// with the neighbours other than `partner` each one links
+struct TurnCandidates {
+  std::vector<Quat> q;
+  std::vector<int> linked;  // neighbours linked, partner excluded
+  std::vector<double> turn;
+};
+
+TurnCandidates turn_candidates(const Positions& p, const Weave& weave, const Orientations& o,
+                               int i, int partner, double c) {
+  constexpr int kSteps = 12;
+  constexpr double kStep = 7.5 * std::numbers::pi / 180;  // rad
+  TurnCandidates out;
+  const Quat q0 = quat_at(o, i);
+  for (int a = -kSteps; a <= kSteps; ++a) {
+    for (int b = -kSteps; b <= kSteps; ++b) {
+      const Quat q = q0 * Quat(Eigen::AngleAxisd(a * kStep, Vec3::UnitX())) *
+                     Quat(Eigen::AngleAxisd(b * kStep, Vec3::UnitZ()));
+      const Circle mine = ring_circle(p.col(i), q, c);
+      int linked = 0;
+      for (int k : weave.neighbours[i]) {
+        if (k >= 0 && k != partner) linked += circles_linked(mine, circle_of(p, o, k, c));
+      }
+      out.q.push_back(q), out.linked.push_back(linked), out.turn.push_back(a * a + b * b);
+    }
+  }
+  return out;
+}
+
+// turns a linked pair (i, k) that neither ring can link alone without losing another link: both
+// together, to the nearest pair of turns that links the most of their neighbours; true if turned
+bool turn_pair(const Positions& p, const Weave& weave, Orientations& o, int i, int k, double c) {
+  const TurnCandidates ci = turn_candidates(p, weave, o, i, k, c);
+  const TurnCandidates ck = turn_candidates(p, weave, o, k, i, c);
+  const int now = linked_count(p, weave, o, i, quat_at(o, i), c) +
+                  linked_count(p, weave, o, k, quat_at(o, k), c);
+  int best = now, bi = -1, bk = -1;
+  double best_turn = 0.0;
+  for (size_t a = 0; a < ci.q.size(); ++a) {
+    const Circle mine = ring_circle(p.col(i), ci.q[a], c);
+    for (size_t b = 0; b < ck.q.size(); ++b) {
+      if (ci.linked[a] + ck.linked[b] + 2 < best) continue;  // cannot win even if linked
+      const int pair = circles_linked(mine, ring_circle(p.col(k), ck.q[b], c));
+      const int score = ci.linked[a] + ck.linked[b] + 2 * pair;
+      const double turn = ci.turn[a] + ck.turn[b];
+      if (score > best || (score == best && bi >= 0 && turn < best_turn)) {
+        best = score, bi = static_cast<int>(a), bk = static_cast<int>(b), best_turn = turn;
+      }
+    }
+  }
+  if (bi < 0) return false;
+  store(o, i, ci.q[bi].normalized());
+  store(o, k, ck.q[bk].normalized());
+  return true;
+}
+
 }  // namespace
+
+int keep_links(const Positions& position, const Weave& weave, const RingGeometry& ring,
+               Orientations& orientation) {
+  const double c = ring.centre_radius;
+  int turned = 0;
+  // two rounds: a ring's best turn depends on its neighbours', turned in the round before
+  for (int round = 0; round < 2; ++round) {
+    for (int i = 0; i < weave.size(); ++i) {
+      const int now = linked_count(position, weave, orientation, i, quat_at(orientation, i), c);
+      if (now == neighbour_count(weave, i)) continue;
+      const TurnCandidates ci = turn_candidates(position, weave, orientation, i, -1, c);
+      int best = -1;
+      for (size_t a = 0; a < ci.q.size(); ++a) {
+        if (ci.linked[a] <= now) continue;
+        if (best < 0 || ci.linked[a] > ci.linked[best] ||
+            (ci.linked[a] == ci.linked[best] && ci.turn[a] < ci.turn[best])) {
+          best = static_cast<int>(a);
+        }
+      }
+      if (best < 0) continue;
+      store(orientation, i, ci.q[best].normalized());
+      ++turned;
+    }
+    // pairs still apart: each ring links its other neighbours and would lose one to link this one
+    for (int i = 0; i < weave.size(); ++i) {
+      for (int k : weave.neighbours[i]) {
+        if (k <= i || circles_linked(circle_of(position, orientation, i, c),
+                                     circle_of(position, orientation, k, c))) {
+          continue;
+        }
+        turned += turn_pair(position, weave, orientation, i, k, c);
+      }
+    }
+  }
+  return turned;
+}
 
 Mat3 basis_from_unit_axes(const Vec3& xn, const Vec3& zn, const Vec3& y) {
   // eq. (1): the bisector of x and z and its perpendicular in their plane, rotated back by 45

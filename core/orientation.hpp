@@ -59,4 +59,12 @@ Vec3 swivel_hinge(const Vec3& pull);
 void orient_rings(const Positions& position, const Weave& weave, const RingGeometry& ring,
                   const OrientationSettings& settings, Orientations& orientation);
 
+// turns each ring that the centre frames leave unlinked from a neighbour (a fold: no plane holds
+// links that go three ways) to the orientation nearest its own that links the most neighbours,
+// searched over turns about its local X and Z axes up to 75 degrees; rings already linked to every
+// neighbour are left as they are. Linked rings cannot come apart, so their orientations are the
+// ones that keep them linked. Returns how many rings turned.
+int keep_links(const Positions& position, const Weave& weave, const RingGeometry& ring,
+               Orientations& orientation);
+
 }  // namespace chainmail

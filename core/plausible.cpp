@@ -273,6 +273,9 @@ void PlausibleSim::frame(RingFrame& out) const {
   out.t = state_.t;
   out.position = state_.position;
   out.orientation = state_.orientation;
+  if (model_.settings.swivel && weave_.type == WeaveType::four_in_one) {
+    keep_links(state_.position, weave_, model_.ring, out.orientation);
+  }
   out.velocity = state_.velocity;
 }
 

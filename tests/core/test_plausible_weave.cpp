@@ -288,6 +288,52 @@ Hinge hinge_of(const Weave& weave, const Positions& p, const Orientations& o, in
   return {std::atan2(side * axis.dot(along), side * axis.dot(normal)), side};
 }
 
+// neighbour pairs of `weave` whose centre circles do not link
+int unlinked_pairs(const Weave& weave, const Positions& p, const Orientations& o) {
+  const double c = kRing.centre_radius;
+  int count = 0;
+  for (int a = 0; a < weave.size(); ++a) {
+    for (int b : weave.neighbours[a]) {
+      if (b <= a) continue;
+      const Quat qa(o(0, a), o(1, a), o(2, a), o(3, a)), qb(o(0, b), o(1, b), o(2, b), o(3, b));
+      count += !circles_linked(ring_circle(p.col(a), qa, c), ring_circle(p.col(b), qb, c));
+    }
+  }
+  return count;
+}
+
+TEST(PlausibleWeave, SheetFoldedOverAnEdgeKeepsEveryLink) {
+  // the rest sheet folded by 90 degrees over an edge through one row of rings (a cloth over a
+  // table's edge): the frames from chords across the fold tilt the rings on it about 45 degrees
+  // from both their links, so the folded rings lose links; turned to keep them, every pair links,
+  // and the flat sheet's orientations do not change
+  const Weave weave = make_weave(loose_sheet().weave, kRing);
+  const double d_max = 0.95 * kRing.inner_diameter();
+  OrientationSettings settings;
+  settings.max_link_distance = d_max;
+  settings.extended_angle = fitted_extended_swivel(kRing, d_max);
+  Orientations flat = weave.rest_orientation;
+  orient_rings(weave.rest_position, weave, kRing, settings, flat);
+  const Orientations unturned = flat;
+  EXPECT_EQ(keep_links(weave.rest_position, weave, kRing, flat), 0);
+  EXPECT_EQ(flat, unturned);
+  const double edge = weave.rest_position(2, weave.size() / 2);  // z of a ring on the fold
+  Positions folded = weave.rest_position;
+  for (int i = 0; i < weave.size(); ++i) {
+    const double beyond = folded(2, i) - edge;
+    if (beyond > 0.0) folded(1, i) -= beyond, folded(2, i) = edge;
+  }
+  Orientations o = weave.rest_orientation;
+  orient_rings(folded, weave, kRing, settings, o);
+  const int before = unlinked_pairs(weave, folded, o);
+  const int turned = keep_links(folded, weave, kRing, o);
+  const int after = unlinked_pairs(weave, folded, o);
+  std::printf("folded 8 x 8: %d pairs unlinked by the chord frames, %d after turning %d rings\n",
+              before, after, turned);
+  EXPECT_GT(before, 0);
+  EXPECT_EQ(after, 0);
+}
+
 bool interior(const Weave& weave, int i) {
   const auto& nb = weave.neighbours[i];
   return std::all_of(nb.begin(), nb.end(), [](int k) { return k >= 0; });
