@@ -148,10 +148,10 @@ class PlausibleSim {
   double edge_rows(double near, std::vector<ProjectionRow>& rows) const;
   double contact_rows(double near, std::vector<ProjectionRow>& rows) const;
   double collider_rows(double near, std::vector<ProjectionRow>& rows);
-  // one sweep each; they return the largest violation they met, m
-  double solve_constraints();
+  // one sweep each (edges: over the given list, the neighbours' or the diagonals'); they return
+  // the largest violation they met, m
+  double solve_edges(const std::vector<EdgeConstraint>& edges);
   double solve_contacts();
-  double solve_diagonals();
   // the diagonal records and the neighbours' closest approach (core/plausible_weave.cpp), m
   double build_compression_limits();
   bool is_diagonal(int a, int b) const;

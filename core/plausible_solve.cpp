@@ -23,8 +23,8 @@ void PlausibleSim::solve_positions() {
   state_.newton_steps = 0;
   state_.residual = 0.0;
   while (state_.sweeps < model_.settings.iterations) {
-    double residual = solve_constraints();
-    if (!model_.diagonals.empty()) residual = std::max(residual, solve_diagonals());
+    double residual = solve_edges(model_.edges);
+    if (!model_.diagonals.empty()) residual = std::max(residual, solve_edges(model_.diagonals));
     if (contacts) residual = std::max(residual, solve_contacts());
     if (colliders) residual = std::max(residual, collide());
     ++state_.sweeps;
@@ -131,12 +131,12 @@ double PlausibleSim::collider_rows(double near, std::vector<ProjectionRow>& rows
   return worst;
 }
 
-double PlausibleSim::solve_constraints() {
+double PlausibleSim::solve_edges(const std::vector<EdgeConstraint>& edges) {
   auto scope = profile_.scope("constraints");
   Positions& p = state_.position;
   const std::vector<double>& w = model_.inverse_mass;
   double worst = 0.0;  // m
-  for (const EdgeConstraint& e : model_.edges) {
+  for (const EdgeConstraint& e : edges) {
     Vec3 corr0, corr1;
     if (solve_edge_constraint(p.col(e.a), w[e.a], p.col(e.b), w[e.b], e.min_length, e.max_length,
                               corr0, corr1)) {

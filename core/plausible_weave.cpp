@@ -32,21 +32,4 @@ bool PlausibleSim::is_diagonal(int a, int b) const {
   return std::abs(first[0] - second[0]) == 1 && std::abs(first[1] - second[1]) == 1;
 }
 
-double PlausibleSim::solve_diagonals() {
-  auto scope = profile_.scope("constraints");
-  Positions& p = state_.position;
-  const std::vector<double>& w = model_.inverse_mass;
-  double worst = 0.0;  // m
-  for (const EdgeConstraint& e : model_.diagonals) {
-    Vec3 corr0, corr1;
-    if (solve_edge_constraint(p.col(e.a), w[e.a], p.col(e.b), w[e.b], e.min_length, e.max_length,
-                              corr0, corr1)) {
-      p.col(e.a) += corr0;
-      p.col(e.b) += corr1;
-      worst = std::max(worst, (corr1 - corr0).norm());
-    }
-  }
-  return worst;
-}
-
 }  // namespace chainmail

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "backends/collider_cases.hpp"
 #include "bench/harness/scene_file.hpp"
 #include "core/circle_contact.hpp"
 #include "core/colliders.hpp"
@@ -67,15 +68,7 @@ double torus_depth(const Collider& collider, const TorusXpbdState& state, double
 
 TEST(TorusXpbd, RestsOnEveryColliderTypeWithinTwoHundredthsOfTheWireRadius) {
   const double top = 0.01;  // m, each collider's top surface
-  const std::vector<json> colliders = {
-      {{"type", "plane"}, {"point", {0.0, top, 0.0}}},
-      {{"type", "sphere"}, {"center", {0.0, top - 0.05, 0.0}}, {"radius", 0.05}},
-      {{"type", "box"}, {"center", {0.0, top - 0.02, 0.0}}, {"half_extents", {0.05, 0.02, 0.05}}},
-      {{"type", "cylinder"},
-       {"center", {0.0, top - 0.02, 0.0}},
-       {"radius", 0.05},
-       {"half_height", 0.02}}};
-  for (const json& collider : colliders) {
+  for (const json& collider : test::colliders_with_top_at(top)) {
     for (const double tilt : {0.0, 0.6}) {
       SCOPED_TRACE(collider["type"].get<std::string>() + " tilt " + std::to_string(tilt));
       json document = one_ring(top + 0.01);
