@@ -68,6 +68,19 @@ struct TemporaryFolder {
   }
 };
 
+// runs a harness command with the GIL released and Ctrl-C handled as on the command line; an
+// interrupted command raises KeyboardInterrupt once the GIL is back
+template <typename Command>
+void without_the_gil(Command&& command) {
+  int status = 0;
+  {
+    HarnessSignals signals;
+    py::gil_scoped_release release;
+    status = command();
+  }
+  HarnessSignals::raise_if_interrupted(status);
+}
+
 py::object run(const PyScene& scene, const std::vector<std::string>& backends,
                const std::optional<std::string>& out, const std::string& reference,
                const std::string& cache, bool progress) {
@@ -81,13 +94,7 @@ py::object run(const PyScene& scene, const std::vector<std::string>& backends,
   command.reference = reference;
   command.cache_dir = cache;
   command.progress = progress;
-  int status = 0;
-  {
-    HarnessSignals signals;
-    py::gil_scoped_release release;
-    status = run_command(command);
-  }
-  HarnessSignals::raise_if_interrupted(status);
+  without_the_gil([&] { return run_command(command); });
   return to_python(read_json(command.out_dir + "/summary.json"));
 }
 
@@ -104,13 +111,7 @@ std::string sweep(const PyScene& scene, const std::vector<std::string>& vary,
   command.cache_dir = cache;
   command.progress = progress;
   command.executable = g_executable;
-  int status = 0;
-  {
-    HarnessSignals signals;
-    py::gil_scoped_release release;
-    status = sweep_command(command);
-  }
-  HarnessSignals::raise_if_interrupted(status);
+  without_the_gil([&] { return sweep_command(command); });
   return command.out_dir;
 }
 
