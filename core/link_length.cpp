@@ -4,34 +4,16 @@
 #include <cmath>
 
 #include "core/geometry.hpp"
+#include "core/link_distance.hpp"
 
 namespace chainmail {
 
 double exact_max_link_distance(const RingGeometry& ring, const Vec3& first, const Vec3& second,
                                const Vec3& direction) {
-  const double c = ring.centre_radius, a = ring.wire_radius;
-  const double top = ring.inner_diameter(), bottom = 2.0 * a;
-  const Vec3 u = direction.normalized();
-  const Circle one{Vec3::Zero(), first.normalized(), c};
-  auto valid = [&](double d) {
-    const Circle other{d * u, second.normalized(), c};
-    return circles_linked(one, other) && !circles_closer_than(one, other, 2.0 * a).has_value();
-  };
-  // the largest valid distance: scan down from ID, then bisect the step where it turns valid
-  constexpr int kScan = 48;
-  const double step = (top - bottom) / kScan;
-  if (valid(top)) return top;
-  for (int k = 1; k <= kScan; ++k) {
-    const double d = top - k * step;
-    if (!valid(d)) continue;
-    double lo = d, hi = d + step;  // lo valid, hi not
-    for (int it = 0; it < 40; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      (valid(mid) ? lo : hi) = mid;
-    }
-    return lo;
-  }
-  return 0.0;
+  // one geometric truth with the rigid-torus model: the same exact search over the pair's
+  // relative orientation (core/link_distance)
+  return max_link_distance(link_orientation(first.normalized(), second.normalized(), direction),
+                           ring);
 }
 
 double four_in_one_link_reach(const RingGeometry& ring, double lean, double alpha) {

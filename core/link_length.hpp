@@ -1,7 +1,8 @@
 // The largest centre distance of two linked rings, from the ring geometry: it depends on how the
 // two rings are turned relative to the line between their centres (perpendicular rings of a chain
 // reach the inner diameter, rings turned towards each other touch sooner). Exact, from the
-// circle-circle distance and the linking test of core/geometry.
+// circle-circle distance and the linking test of core/geometry, through the same search as the
+// rigid-torus model's (core/link_distance.hpp).
 #pragma once
 
 #include "core/ring.hpp"
