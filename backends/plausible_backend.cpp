@@ -14,10 +14,12 @@ const KnobTable<PlausibleSettings>& plausible_knobs() {
     KnobTable<S> t;
     t.time_step(0.004, 1e-6, 0.1, "time step, s");
     t.integer("iterations", &S::iterations, 1, 100000, "most constraint sweeps per step");
-    t.number("tolerance", &S::tolerance, 0.0, 1.0,
-             "sweeps stop once the largest violation met is below this fraction of the link length");
-    t.integer("newton_steps", &S::newton_steps, 0, 10000,
-              "most Newton steps on edges and colliders together after the sweeps (0: sweeps only)");
+    t.number(
+        "tolerance", &S::tolerance, 0.0, 1.0,
+        "sweeps stop once the largest violation met is below this fraction of the link length");
+    t.integer(
+        "newton_steps", &S::newton_steps, 0, 10000,
+        "most Newton steps on edges and colliders together after the sweeps (0: sweeps only)");
     t.boolean("link_geometry", &S::link_geometry,
               "largest neighbour distance from the ring geometry, by the rings' orientation");
     t.number("max_link_fraction", &S::max_link_fraction, 0.2, 1.0,
@@ -29,8 +31,9 @@ const KnobTable<PlausibleSettings>& plausible_knobs() {
               "damping slows all motion, rigid motion included (a drag)");
     t.number("repulsion_fraction", &S::repulsion_fraction, 0.0, 2.0,
              "non-neighbour minimum distance (or repulsion spring range) / inner diameter");
-    t.boolean("repulsion_spring", &S::repulsion_spring,
-              "non-neighbours repel by the paper's spring (explicit) instead of a minimum distance");
+    t.boolean(
+        "repulsion_spring", &S::repulsion_spring,
+        "non-neighbours repel by the paper's spring (explicit) instead of a minimum distance");
     t.number("repulsion_stiffness", &S::repulsion_stiffness, 0.0, 1e9,
              "stiffness of the repulsion spring, N/m");
     t.number("contact_skin", &S::contact_skin, 0.0, 10.0,
@@ -39,8 +42,9 @@ const KnobTable<PlausibleSettings>& plausible_knobs() {
              "distance kept between a ring centre and a collider, m (0: the torus's extent along "
              "the collider normal from the ring's orientation)");
     t.boolean("swivel", &S::swivel, "swivel rings into the 4-in-1 pattern");
-    t.boolean("shock_propagation", &S::shock_propagation,
-              "a constraint pass outward from the pins before the sweeps, moving only the far ring");
+    t.boolean(
+        "shock_propagation", &S::shock_propagation,
+        "a constraint pass outward from the pins before the sweeps, moving only the far ring");
     t.number("swivel_extended", &S::swivel_extended, 0.0, 0.5 * std::numbers::pi,
              "swivel angle at full extension, rad (0: the paper's a/c)");
     t.boolean("swivel_fit", &S::swivel_fit,

@@ -59,8 +59,8 @@ struct InfoFlags {
 std::string backends_help(const std::string& what) {
   std::string names;
   for (const std::string& name : chainmail::known_backend_names())
-    names += (names.empty() ? "" : ", ") + name +
-             (chainmail::backend_built(name) ? "" : " (not built)");
+    names +=
+        (names.empty() ? "" : ", ") + name + (chainmail::backend_built(name) ? "" : " (not built)");
   return what + ": a comma-separated list of " + names + "; or all";
 }
 
@@ -184,8 +184,7 @@ void add_stability(CLI::App& app, StabilityFlags& flags) {
   chainmail::StabilityCommand& stability = flags.command;
   CLI::App* sub = flags.app =
       app.add_subcommand("stability", "stiff and extreme cases: verdicts and largest stable dt");
-  sub->add_option("--backends", flags.backends, backends_help("backends"))
-      ->default_str("all");
+  sub->add_option("--backends", flags.backends, backends_help("backends"))->default_str("all");
   sub->add_option("--out", stability.out_dir, "output folder");
   sub->add_flag("--force", stability.force, "replace an empty folder chainmail did not make");
   sub->add_flag("--quick", stability.quick, "tiny sizes (test mode)");
@@ -199,8 +198,7 @@ void add_bench(CLI::App& app, BenchFlags& flags) {
   sub->add_option("--out", bench.out_dir, "output folder");
   sub->add_flag("--force", bench.force, "replace an empty folder chainmail did not make");
   sub->add_flag("--quick", bench.quick, "reduced sizes and durations (test mode)");
-  sub->add_option("--backends", flags.backends, backends_help("backends"))
-      ->default_str("all");
+  sub->add_option("--backends", flags.backends, backends_help("backends"))->default_str("all");
   sub->add_option("--jobs", bench.jobs, "sweep points in parallel")->check(CLI::Range(1, 256));
   sub->add_flag("--no-render", flags.no_render, "skip the side-by-side frames");
 }

@@ -21,8 +21,7 @@ double four_in_one_link_reach(const RingGeometry& ring, double lean, double alph
   // about the row normal (Z here) one way, its neighbours the other way
   const Vec3 mine = Eigen::AngleAxisd(lean, Vec3::UnitZ()) * Vec3::UnitY();
   const Vec3 theirs = Eigen::AngleAxisd(-lean, Vec3::UnitZ()) * Vec3::UnitY();
-  return exact_max_link_distance(ring, mine, theirs,
-                                 Vec3(std::cos(alpha), 0.0, std::sin(alpha)));
+  return exact_max_link_distance(ring, mine, theirs, Vec3(std::cos(alpha), 0.0, std::sin(alpha)));
 }
 
 double four_in_one_rest_link_angle() {

@@ -93,8 +93,8 @@ struct TurnCandidates {
   std::vector<double> turn;
 };
 
-TurnCandidates turn_candidates(const Positions& p, const Weave& weave, const Orientations& o,
-                               int i, int partner, double c) {
+TurnCandidates turn_candidates(const Positions& p, const Weave& weave, const Orientations& o, int i,
+                               int partner, double c) {
   constexpr int kSteps = 12;
   constexpr double kStep = 7.5 * std::numbers::pi / 180;  // rad
   TurnCandidates out;

@@ -60,8 +60,9 @@ struct PlausibleSettings {
   // steps converge without it, and its one-sided moves bias the shape (a catenary sags 5 % less)
   bool shock_propagation = false;
   // 4-in-1: how close neighbours, rings that share two neighbours (i +- 1, j +- 1) and rings a row
-  // and a half apart (i +- 2, j +- 1), (i +- 1, j +- 2) can come, from the ring geometry (core/weave_limits), enforced in the sweeps; off: the paper's rule,
-  // neighbours as close as the wire thickness and the sheet never compressed along both axes
+  // and a half apart (i +- 2, j +- 1), (i +- 1, j +- 2) can come, from the ring geometry
+  // (core/weave_limits), enforced in the sweeps; off: the paper's rule, neighbours as close as the
+  // wire thickness and the sheet never compressed along both axes
   bool compression_limits = true;
   // 4-in-1: each ring's swivel hinge turns toward the pins it hangs from, the direction propagated
   // from the pins through the weave (core/pin_paths; paper §6), so a sheet hung from its corners

@@ -174,8 +174,7 @@ void TorusXpbdSim::solve_links(double h, bool scan) {
   };
   retry_.clear();
   for (int index : link_order_) {
-    if (again(link_pairs_[index], solve_pair(link_pairs_[index], h, scan)))
-      retry_.push_back(index);
+    if (again(link_pairs_[index], solve_pair(link_pairs_[index], h, scan))) retry_.push_back(index);
   }
   relaxation_ = 1.0;
   for (int pass = 0; pass < kRetryPasses && !retry_.empty(); ++pass) {
@@ -285,9 +284,8 @@ void TorusXpbdSim::order_links() {
     return da < 0 || db < 0 ? n : std::min(da, db);  // unsupported last
   };
   // a total order (ties by index): std::sort needs no buffer, and the order is deterministic
-  std::sort(link_order_.begin(), link_order_.end(), [&](int x, int y) {
-    return depth(x) != depth(y) ? depth(x) < depth(y) : x < y;
-  });
+  std::sort(link_order_.begin(), link_order_.end(),
+            [&](int x, int y) { return depth(x) != depth(y) ? depth(x) < depth(y) : x < y; });
 }
 
 void TorusXpbdSim::integrate(double h) {

@@ -8,10 +8,10 @@
 #include <sstream>
 
 #include "bench/harness/commands.hpp"
+#include "bench/harness/data_dir.hpp"
 #include "bench/harness/interrupt.hpp"
 #include "bench/harness/output.hpp"
 #include "bench/harness/output_folder.hpp"
-#include "bench/harness/data_dir.hpp"
 #include "bench/harness/render_output.hpp"
 #include "bench/harness/run.hpp"
 #include "bench/harness/scene_file.hpp"

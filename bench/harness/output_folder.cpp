@@ -36,8 +36,7 @@ const char* kind_of(mode_t mode) {
 
 }  // namespace
 
-bool read_manifest(const std::string& folder, std::string& command,
-                   std::set<std::string>& files) {
+bool read_manifest(const std::string& folder, std::string& command, std::set<std::string>& files) {
   struct stat info {};
   const fs::path path = fs::path(folder) / kManifestName;
   if (::lstat(path.c_str(), &info) != 0 || !S_ISREG(info.st_mode) || info.st_size > (64 << 20))

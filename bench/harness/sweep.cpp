@@ -102,9 +102,7 @@ double reference_run_dt(double scene_reference_dt, double scene_dt,
   return dt;
 }
 
-namespace {
-
-}  // namespace
+namespace {}  // namespace
 
 std::vector<std::string> SweepJobs::args(const SweepPoint& p, size_t k,
                                          const std::string& folder) const {

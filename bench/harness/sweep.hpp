@@ -15,11 +15,11 @@ struct SweepCommand {
   std::string out_dir;  // default results/<scene>/sweep
   bool force = false;   // replace a foreign empty folder at out_dir
   int jobs = 1;
-  bool print_jobs = false;  // print the reference job, then one `chainmail run` per point; stop
+  bool print_jobs = false;      // print the reference job, then one `chainmail run` per point; stop
   bool reference_only = false;  // run the reference into the cache and stop (the reference job)
   std::string gather;           // DIR: sweep.csv and the plot from DIR/points/K, run elsewhere
   std::string slurm;            // FILE: write a Slurm submission script there and stop
-  std::string executable;   // the chainmail binary that runs each point
+  std::string executable;       // the chainmail binary that runs each point
   bool progress = true;
   std::string cache_dir;  // "" = the default cache folder, "none" = no cache
 };

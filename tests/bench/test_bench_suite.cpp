@@ -58,8 +58,8 @@ TEST(Bench, QuickModeWritesEveryResultsFile) {
        {"README.md", "timing.md", "timing.csv", "metrics.md", "sweep/curtain/sweep.csv",
         "sweep/table_cloth/sweep.csv", "sweep/corner_hang/sweep.csv", "stability/stability.md",
         "stability/stability.csv", "curtain/summary.json", "corner_hang/summary.json",
-        "table_cloth/metrics.csv", "chain_catenary/table.md",
-        "chain_pile/summary.json", "sphere_drape/summary.json"}) {
+        "table_cloth/metrics.csv", "chain_catenary/table.md", "chain_pile/summary.json",
+        "sphere_drape/summary.json"}) {
     EXPECT_TRUE(fs::exists(out / file)) << file;
   }
   EXPECT_EQ(count_lines(out / "timing.csv"), 1 + 6 * 2);  // six scenes, two backends

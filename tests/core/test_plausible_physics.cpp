@@ -8,7 +8,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "physics_oracles.hpp"
 #include "bench/harness/scene_file.hpp"
 #include "core/colliders.hpp"
 #include "core/geometry.hpp"
@@ -17,6 +16,7 @@
 #include "core/metrics.hpp"
 #include "core/plausible.hpp"
 #include "core/weave.hpp"
+#include "physics_oracles.hpp"
 
 namespace chainmail {
 namespace {

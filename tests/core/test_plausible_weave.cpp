@@ -136,17 +136,14 @@ TEST(EdgeConstraint, AnEdgeAtItsMaximumStaysThere) {
 
 // an 8 x 8 sheet in the plane y = 0, no gravity, nothing to hit
 Scene loose_sheet(const json& pins = json::array()) {
-  return scene_from_json(json{{"name", "press"},
-                              {"weave",
-                               {{"type", "4in1"},
-                                {"rows", 8},
-                                {"cols", 8},
-                                {"plane", "xz"},
-                                {"center", {0, 0, 0}}}},
-                              {"pins", pins},
-                              {"gravity", {0, 0, 0}},
-                              {"duration", 1.0}},
-                         "test");
+  return scene_from_json(
+      json{{"name", "press"},
+           {"weave",
+            {{"type", "4in1"}, {"rows", 8}, {"cols", 8}, {"plane", "xz"}, {"center", {0, 0, 0}}}},
+           {"pins", pins},
+           {"gravity", {0, 0, 0}},
+           {"duration", 1.0}},
+      "test");
 }
 
 // the smallest distance among the sheet's pairs (i, j)-(i + di, j + dj), m
@@ -191,10 +188,11 @@ TEST(PlausibleWeave, SheetPushedTogetherInBothDirectionsStopsAtTheDerivedDistanc
     if (limits) {
       // within 1 %: pressed every step, the sweeps end a little short of converged
       const double lean = sim.model().extended_swivel;
-      std::printf("pushed sheet: rows close to %.3f mm (2a / sin(lean) %.3f), columns to %.3f mm "
-                  "(2(c + a) %.3f), pairs a row and a half apart to %.3f mm (2c %.3f)\n",
-                  1e3 * row[1], 2e3 * a / std::sin(lean), 1e3 * column[1], 2e3 * (c + a),
-                  1e3 * knight[1], 2e3 * c);
+      std::printf(
+          "pushed sheet: rows close to %.3f mm (2a / sin(lean) %.3f), columns to %.3f mm "
+          "(2(c + a) %.3f), pairs a row and a half apart to %.3f mm (2c %.3f)\n",
+          1e3 * row[1], 2e3 * a / std::sin(lean), 1e3 * column[1], 2e3 * (c + a), 1e3 * knight[1],
+          2e3 * c);
       EXPECT_GT(row[1], 0.99 * 2.0 * a / std::sin(lean));
       EXPECT_NEAR(column[1], 2.0 * (c + a), 0.01 * column[1]);
       EXPECT_NEAR(knight[1], 2.0 * c, 0.01 * knight[1]);

@@ -196,8 +196,8 @@ TEST(TorusXpbd, ASheetHungFromTwoCornersHoldsItsLinksShallowerThanTheCapsuleRefe
   // deepest linked pair, from the exact centre-circle distance, stays shallower all the way than
   // the 0.045 a the capsule references leave at rest (it settles near 0.015 a; the swing's first
   // jerk reaches 0.04 a)
-  const Scene scene = load_scene_file(CHAINMAIL_SOURCE_DIR "/bench/scenes/corner_hang.json",
-                                      {"duration=1"});
+  const Scene scene =
+      load_scene_file(CHAINMAIL_SOURCE_DIR "/bench/scenes/corner_hang.json", {"duration=1"});
   const Weave weave = make_weave(scene.weave, scene.ring);
   TorusXpbdSim sim;
   sim.reset(scene, weave, TorusXpbdSettings{});
