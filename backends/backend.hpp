@@ -31,6 +31,9 @@ class Backend {
   virtual void frame(RingFrame& out) const = 0;
   // stages that ran so far (collision, self_contact, ...), for the leave-out-what-is-unneeded rule
   virtual const StageProfile& profile() const = 0;
+  // threads step() may use (at least 1); called before reset. A backend that steps on one thread
+  // ignores it. The result of a run must not depend on it (same final-state hash).
+  virtual void set_threads(int threads) {}
 };
 
 struct BackendInfo {

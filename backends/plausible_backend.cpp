@@ -73,6 +73,7 @@ class PlausibleBackend final : public Backend {
   }
   void frame(RingFrame& out) const override { sim_.frame(out); }
   const StageProfile& profile() const override { return sim_.profile(); }
+  void set_threads(int threads) override { sim_.set_threads(threads); }
 
  private:
   PlausibleSim sim_;

@@ -1,4 +1,5 @@
 #include "core/orientation.hpp"
+#include "core/parallel.hpp"
 
 #include "core/geometry.hpp"
 
@@ -285,6 +286,8 @@ void orient_rings(const Positions& position, const Weave& weave, const RingGeome
   // neighbour vectors along both grid axes (X from (i-1,j)->(i+1,j), Z from (i,j-1)->(i,j+1)),
   // unit, with the neighbour spacing along each
   std::vector<GridAxes> axes(n);
+  const int threads = loop_threads(settings.threads, n);
+#pragma omp parallel for schedule(static) num_threads(threads)
   for (int i = 0; i < n; ++i) {
     const auto& nb = weave.neighbours[i];
     GridAxes& g = axes[i];
@@ -293,6 +296,7 @@ void orient_rings(const Positions& position, const Weave& weave, const RingGeome
     if (g.has_x) g.x /= nb[0] >= 0 && nb[1] >= 0 ? 2.0 * g.dx : g.dx;
     if (g.has_z) g.z /= nb[2] >= 0 && nb[3] >= 0 ? 2.0 * g.dz : g.dz;
   }
+#pragma omp parallel for schedule(static) num_threads(threads)
   for (int i = 0; i < n; ++i) {
     const auto& nb = weave.neighbours[i];
     // a ring with neighbours on one axis only (a sheet's corner) borrows the other axis from a

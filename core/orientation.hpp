@@ -39,6 +39,7 @@ struct OrientationSettings {
   // hinge turns toward it (swivel_hinge); null, or a zero column, keeps the hinge the neighbour
   // distances give
   const Positions* pull = nullptr;
+  int threads = 1;  // threads of the per-ring loops (core/parallel.hpp)
 };
 
 // rad, the largest turn of a hinge from the row normal: 15 degrees, about how far the rigid

@@ -1,4 +1,5 @@
 #include "core/plausible.hpp"
+#include "core/parallel.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -248,6 +249,7 @@ void PlausibleSim::orient() {
     pull_toward_pins(model_.pin_paths, state_.position, state_.pull);
     settings.pull = &state_.pull;
   }
+  settings.threads = threads_;
   orient_rings(state_.position, weave_, model_.ring, settings, state_.orientation);
   // the ring axes the colliders see follow the orientations a fraction per step: a torus's reach
   // into a collider moves its centre, which turns its neighbours; followed at once, rings on a
@@ -259,6 +261,7 @@ void PlausibleSim::orient() {
   constexpr double follow = 0.2;
   const bool first = state_.contact_axis.cols() != n;
   if (first) state_.contact_axis.resize(3, n);
+#pragma omp parallel for schedule(static) num_threads(loop_threads(threads_, n))
   for (int i = 0; i < n; ++i) {
     const Vec3 axis = Quat(o(0, i), o(1, i), o(2, i), o(3, i)) * Vec3::UnitY();
     const Vec3 old = state_.contact_axis.col(i);

@@ -128,6 +128,10 @@ class PlausibleSim {
   void reset(const Scene& scene, const Weave& weave, const PlausibleSettings& settings);
   void step(double dt);
   void frame(RingFrame& out) const;
+  // threads the step's data-parallel loops run on (core/parallel.hpp: any count gives the same
+  // result); 1 by default
+  void set_threads(int threads) { threads_ = threads < 1 ? 1 : threads; }
+  int threads() const { return threads_; }
 
   const PlausibleModel& model() const { return model_; }
   const PlausibleState& state() const { return state_; }
@@ -169,6 +173,7 @@ class PlausibleSim {
   SpatialHash hash_;
   Projection projection_;  // the Newton steps' factorisation, kept between steps
   StageProfile profile_;
+  int threads_ = 1;
 };
 
 }  // namespace chainmail
