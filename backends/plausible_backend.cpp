@@ -45,6 +45,15 @@ const KnobTable<PlausibleSettings>& plausible_knobs() {
     t.boolean(
         "shock_propagation", &S::shock_propagation,
         "a constraint pass outward from the pins before the sweeps, moving only the far ring");
+    t.boolean("pin_attachments", &S::pin_attachments,
+              "long-range attachments: no ring farther from its nearest pins than its links "
+              "allow (keeps large hanging sheets from stretching)");
+    t.integer("substeps", &S::substeps, 0, 10000,
+              "equal substeps per step, the step's sweeps shared among them (0: 1 where the "
+              "Newton steps run, iterations substeps of one sweep each otherwise)");
+    t.integer("newton_max_rings", &S::newton_max_rings, 0, 1000000000,
+              "Newton steps only on scenes with at most this many rings (their direct solve "
+              "grows faster than the ring count)");
     t.number("swivel_extended", &S::swivel_extended, 0.0, 0.5 * std::numbers::pi,
              "swivel angle at full extension, rad (0: the paper's a/c)");
     t.boolean("swivel_fit", &S::swivel_fit,

@@ -30,6 +30,18 @@ inline bool solve_edge_constraint(const Vec3& p0, double w0, const Vec3& p1, dou
   return true;
 }
 
+// long-range attachment: keep p within max_distance of a fixed anchor (a pin); only p moves.
+// Returns false when it already is (correction untouched).
+inline bool solve_attachment_constraint(const Vec3& p, const Vec3& anchor, double max_distance,
+                                        Vec3& corr) {
+  const Vec3 d = p - anchor;
+  const double length2 = d.squaredNorm();
+  if (length2 <= max_distance * max_distance) return false;
+  const double length = std::sqrt(length2);
+  corr = ((max_distance - length) / length) * d;
+  return true;
+}
+
 // linear repulsion between two non-neighbour rings closer than `range`: a spring of stiffness k
 // pushing them apart (paper §3, after Bridson et al.); returns the force on p0 (p1 gets minus it)
 inline Vec3 repulsion_force(const Vec3& p0, const Vec3& p1, double range, double stiffness) {

@@ -1,4 +1,5 @@
 #include "core/damping.hpp"
+#include "core/parallel.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -89,10 +90,12 @@ RigidMotion fit_rigid_motion(const RigidFreedom& freedom, const Positions& posit
 }
 
 void damp_toward_rigid(const RigidFreedom& freedom, const Positions& position, const MassView& mass,
-                       const MassView& inverse_mass, double fraction, Positions& velocity) {
+                       const MassView& inverse_mass, double fraction, Positions& velocity,
+                       int threads) {
   if (fraction <= 0.0) return;
   const RigidMotion rigid = fit_rigid_motion(freedom, position, velocity, mass, inverse_mass);
   const int n = static_cast<int>(position.cols());
+#pragma omp parallel for schedule(static) num_threads(loop_threads(threads, n))
   for (int i = 0; i < n; ++i) {
     if (inverse_mass[i] == 0.0) continue;
     velocity.col(i) += fraction * (rigid.at(position.col(i)) - velocity.col(i));

@@ -39,6 +39,7 @@ RigidMotion fit_rigid_motion(const RigidFreedom& freedom, const Positions& posit
 
 // v_i += fraction * (rigid(x_i) - v_i) for every free mass; fraction in [0, 1]
 void damp_toward_rigid(const RigidFreedom& freedom, const Positions& position, const MassView& mass,
-                       const MassView& inverse_mass, double fraction, Positions& velocity);
+                       const MassView& inverse_mass, double fraction, Positions& velocity,
+                       int threads = 1);
 
 }  // namespace chainmail

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 #include <utility>
 
@@ -17,31 +16,6 @@ namespace {
 // per-ring values as an Eigen vector, without a copy
 Eigen::Map<const Eigen::VectorXd> view(const std::vector<double>& values) {
   return {values.data(), static_cast<Eigen::Index>(values.size())};
-}
-
-// the weave's links as edge constraints, grouped by a greedy edge colouring: within one colour no
-// two edges share a ring, so consecutive solves do not wait on each other's square root and
-// division (the sweep stays Gauss-Seidel: each colour sees the corrections of the ones before)
-std::vector<EdgeConstraint> colour_ordered_edges(const Weave& weave, double min_length,
-                                                 double max_length) {
-  const int n = weave.size();
-  std::vector<std::uint32_t> used(n, 0);  // (n) bit c set: ring has an edge of colour c
-  std::vector<std::pair<int, EdgeConstraint>> coloured;
-  coloured.reserve(weave.links.size());
-  for (const RingPair& link : weave.links) {
-    const std::uint32_t taken = used[link.a] | used[link.b];
-    int colour = 0;
-    while (colour < 31 && (taken >> colour & 1u)) ++colour;
-    used[link.a] |= 1u << colour;
-    used[link.b] |= 1u << colour;
-    coloured.push_back({colour, {link.a, link.b, min_length, max_length}});
-  }
-  std::stable_sort(coloured.begin(), coloured.end(),
-                   [](const auto& x, const auto& y) { return x.first < y.first; });
-  std::vector<EdgeConstraint> edges;
-  edges.reserve(coloured.size());
-  for (const auto& [colour, edge] : coloured) edges.push_back(edge);
-  return edges;
 }
 
 }  // namespace
@@ -72,7 +46,12 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
       geometric > 0.0 ? (1.0 - settings.tolerance) * geometric : fraction_length;
   // neighbours as close as the weave's geometry lets them come (the wire thickness without it)
   const double closest = build_compression_limits();
-  model_.edges = colour_ordered_edges(weave, closest, max_length);
+  // the weave's links as edge constraints, grouped by colour (core/colouring.hpp)
+  for (const RingPair& link : weave.links) {
+    model_.edges.push_back({link.a, link.b, closest, max_length});
+  }
+  model_.edge_colours = colour_pairs(model_.edges, n);
+  model_.diagonal_colours = colour_pairs(model_.diagonals, n);
   model_.longest_link = max_length;
   // breadth-first depth from the pins orders the outward pass
   {
@@ -98,8 +77,12 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
                        return depth[x.b] != depth[y.b] ? depth[x.b] < depth[y.b] : x.b < y.b;
                      });
   }
+  const std::vector<int> pinned = resolve_pins(scene, weave);
   if (settings.swivel_from_pins && settings.swivel && weave.type == WeaveType::four_in_one) {
-    model_.pin_paths = pin_paths(weave, resolve_pins(scene, weave));
+    model_.pin_paths = pin_paths(weave, pinned);
+  }
+  if (settings.pin_attachments && !pinned.empty()) {
+    model_.attachments = pin_attachments(weave, pin_paths(weave, pinned), pinned, max_length);
   }
   model_.rigid = rigid_freedom(weave.rest_position, view(model_.inverse_mass));
   model_.colliders = scene.colliders;
@@ -125,6 +108,27 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
 }
 
 void PlausibleSim::step(double dt) {
+  const int substeps = substep_count();
+  const double h = dt / substeps;  // s
+  for (int k = 0; k < substeps; ++k) substep(h, k + 1 == substeps ? dt : 0.0);
+  // ring orientation from the neighbour vectors (paper §4): the colliders read it every step (a
+  // torus reaches into a collider by its orientation); otherwise only frames do, and it waits
+  orientation_stale_ = true;
+  if (!model_.colliders.empty()) {
+    auto scope = profile_.scope("orient");
+    orient();
+  }
+  state_.t += dt;
+}
+
+int PlausibleSim::substep_count() const {
+  if (model_.settings.substeps > 0) return model_.settings.substeps;
+  const bool newton = model_.settings.newton_steps > 0 &&
+                      state_.position.cols() <= model_.settings.newton_max_rings;
+  return newton ? 1 : model_.settings.iterations;
+}
+
+void PlausibleSim::substep(double h, double damp_dt) {
   const bool contacts = model_.self_contact && state_.position.cols() > 1;
   const bool spring = model_.settings.repulsion_spring;
   // external forces: gravity, and the repulsion spring between non-neighbours when chosen
@@ -135,26 +139,25 @@ void PlausibleSim::step(double dt) {
     add_repulsion_forces();
   }
   // integrate: symplectic Euler prediction of the new positions
-  integrate(dt);
+  integrate(h);
   // candidate pairs near the predicted positions, for the minimum distance in the sweeps
   if (contacts && !spring) {
     auto scope = profile_.scope("self_contact");
     refresh_contact_candidates();
   }
-  // outward pass from the pins, then Provot edge constraints, minimum distances between
-  // non-neighbours and colliders, swept together until converged
+  // long-range attachments to the pins, Provot edge constraints, minimum distances between
+  // non-neighbours and colliders, swept together until converged (then Newton steps)
   solve_positions();
   profile_.record_residual(state_.residual, model_.settings.tolerance * model_.longest_link);
-  // velocities from the constrained motion (paper §3), collider friction, damping
-  update_velocities(dt);
-  // ring orientation from the neighbour vectors (paper §4)
-  orient();
-  state_.t += dt;
+  // velocities from the constrained motion (paper §3), collider friction; damping once per
+  // step, in the last substep (it removes min(1, damping dt) of the motion it damps)
+  update_velocities(h, damp_dt);
 }
 
 void PlausibleSim::accumulate_forces() {
   auto scope = profile_.scope("forces");
   const int n = static_cast<int>(state_.position.cols());
+#pragma omp parallel for schedule(static) num_threads(loop_threads(threads_, n))
   for (int i = 0; i < n; ++i) state_.force.col(i) = model_.mass[i] * model_.gravity;
 }
 
@@ -176,11 +179,15 @@ void PlausibleSim::refresh_contact_candidates() {
   const int n = static_cast<int>(state_.position.cols());
   if (skin > 0.0 && state_.contact_anchor.cols() == n) {
     const double limit2 = 0.25 * skin * skin;
-    bool moved = false;
-    for (int i = 0; i < n && !moved; ++i) {
-      moved = (state_.position.col(i) - state_.contact_anchor.col(i)).squaredNorm() > limit2;
+    double farthest2 = 0.0;  // m^2
+#pragma omp parallel for schedule(static) num_threads(loop_threads(threads_, n)) \
+    reduction(max                                                                \
+              : farthest2)
+    for (int i = 0; i < n; ++i) {
+      farthest2 = std::max(farthest2,
+                           (state_.position.col(i) - state_.contact_anchor.col(i)).squaredNorm());
     }
-    if (!moved) return;
+    if (farthest2 <= limit2) return;
   }
   const double radius = model_.repulsion_range + skin;
   state_.contact_candidates.clear();
@@ -191,6 +198,7 @@ void PlausibleSim::refresh_contact_candidates() {
     if (is_diagonal(i, j)) return;  // sharing two neighbours: a minimum distance of its own
     state_.contact_candidates.push_back({i, j});
   });
+  state_.contact_colours = colour_pairs(state_.contact_candidates, n);
   state_.contact_anchor = state_.position;
   ++state_.contact_rebuilds;
 }
@@ -201,19 +209,21 @@ void PlausibleSim::integrate(double dt) {
   // a ring that starts the step inside a collider's margin (a scene placed it there, or its torus
   // turned to reach farther) moves out before the step, so the move makes no velocity
   if (!model_.colliders.empty()) collide();
-  state_.previous = state_.position;
+#pragma omp parallel for schedule(static) num_threads(loop_threads(threads_, n))
   for (int i = 0; i < n; ++i) {
+    state_.previous.col(i) = state_.position.col(i);
+    state_.contact_push[i] = 0.0;
     const double w = model_.inverse_mass[i];
     if (w == 0.0) continue;  // pinned
     state_.velocity.col(i) += dt * w * state_.force.col(i);
     state_.position.col(i) += dt * state_.velocity.col(i);
   }
-  state_.contact_push.setZero();
 }
 
-void PlausibleSim::update_velocities(double dt) {
+void PlausibleSim::update_velocities(double dt, double damp_dt) {
   auto scope = profile_.scope("velocity");
   const int n = static_cast<int>(state_.position.cols());
+#pragma omp parallel for schedule(static) num_threads(loop_threads(threads_, n))
   for (int i = 0; i < n; ++i) {
     if (model_.inverse_mass[i] == 0.0) {
       state_.velocity.col(i).setZero();
@@ -230,17 +240,18 @@ void PlausibleSim::update_velocities(double dt) {
     }
     state_.velocity.col(i) = v;
   }
-  const double fraction = std::min(1.0, model_.settings.damping * dt);
+  if (damp_dt <= 0.0) return;
+  const double fraction = std::min(1.0, model_.settings.damping * damp_dt);
   if (model_.settings.damp_rigid) {
     state_.velocity *= 1.0 - fraction;
   } else {
     damp_toward_rigid(model_.rigid, state_.position, view(model_.mass), view(model_.inverse_mass),
-                      fraction, state_.velocity);
+                      fraction, state_.velocity, threads_);
   }
 }
 
-void PlausibleSim::orient() {
-  auto scope = profile_.scope("orient");
+void PlausibleSim::orient() const {
+  orientation_stale_ = false;
   OrientationSettings settings;
   settings.max_link_distance = model_.settings.max_link_fraction * model_.ring.inner_diameter();
   settings.swivel = model_.settings.swivel;
@@ -273,6 +284,7 @@ void PlausibleSim::orient() {
 }
 
 void PlausibleSim::frame(RingFrame& out) const {
+  if (orientation_stale_) orient();
   out.t = state_.t;
   out.position = state_.position;
   out.orientation = state_.orientation;

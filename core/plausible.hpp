@@ -6,10 +6,12 @@
 
 #include <vector>
 
+#include "core/colouring.hpp"
 #include "core/damping.hpp"
 #include "core/frame.hpp"
 #include "core/link_length.hpp"
 #include "core/orientation.hpp"
+#include "core/pin_attachments.hpp"
 #include "core/pin_paths.hpp"
 #include "core/profile.hpp"
 #include "core/projection.hpp"
@@ -27,6 +29,11 @@ struct PlausibleSettings {
   int iterations = 10;
   double tolerance = 1e-3;
   int newton_steps = 30;
+  // equal substeps per step, each a full predict-solve-velocity pass with iterations / substeps
+  // sweeps (at least one): the same sweeps, but a stretch left by one substep is g (dt/s)^2 small
+  // (Macklin et al. 2019, "Small Steps"). 0: 1 where the Newton steps run, `iterations` (one
+  // sweep each) on larger scenes, whose sweeps alone do not converge
+  int substeps = 0;
   // the links' largest length from the ring geometry, for the two rings as the model turns them at
   // full extension (exact circle-circle distance); where the geometry gives none (4-in-1 at the
   // paper's swivel: turned nearly into one plane, the rings cannot link without touching), and
@@ -59,6 +66,13 @@ struct PlausibleSettings {
   // when Gauss-Seidel sweeps alone would need O(rows^2) iterations. Off by default: the Newton
   // steps converge without it, and its one-sided moves bias the shape (a catenary sags 5 % less)
   bool shock_propagation = false;
+  // long-range attachments (core/pin_attachments): each ring no farther from its nearest pins
+  // than its links to them allow, projected first in every sweep, so a hanging sheet's stretch
+  // does not need O(rows^2) sweeps; a bound real rings never exceed, so it biases nothing
+  bool pin_attachments = true;
+  // the Newton steps' sparse direct solve costs about rings^1.5 per step (80 ms at 64x64): on
+  // more rings than this the sweeps and the attachments stand alone
+  int newton_max_rings = 1024;
   // 4-in-1: how close neighbours, rings that share two neighbours (i +- 1, j +- 1) and rings a row
   // and a half apart (i +- 2, j +- 1), (i +- 1, j +- 2) can come, from the ring geometry
   // (core/weave_limits), enforced in the sweeps; off: the paper's rule, neighbours as close as the
@@ -83,12 +97,15 @@ struct PlausibleModel {
   RingGeometry ring;
   std::vector<double> mass;             // (n) kg
   std::vector<double> inverse_mass;     // (n) 1/kg, 0 for pinned rings
-  std::vector<EdgeConstraint> edges;    // (m) neighbour links
+  std::vector<EdgeConstraint> edges;    // (m) neighbour links, by colour
+  Colouring edge_colours;               // edges of one colour share no ring
   double longest_link = 0.0;            // m, the largest max_length: the solver's length scale
   std::vector<EdgeConstraint> outward;  // edges reachable from a pin, a = nearer the pin, by depth
+  PinAttachments attachments;           // long-range attachments to the pins (pin_attachments)
   // rings that share two neighbours, and rings of adjacent rows a row and a half apart (4-in-1
   // with compression_limits), kept within their bounds
-  std::vector<EdgeConstraint> diagonals;
+  std::vector<EdgeConstraint> diagonals;  // by colour
+  Colouring diagonal_colours;
   PinPaths pin_paths;  // 4-in-1 with swivel_from_pins: the rings breadth-first from the pins
   std::vector<Collider> colliders;
   Vec3 gravity = Vec3::Zero();  // m/s^2
@@ -113,9 +130,10 @@ struct PlausibleState {
   Positions contact_normal;          // (3, n) unit, last collider normal this step
   Eigen::VectorXd contact_friction;  // (n) Coulomb coefficient of that collider
   // self-contact candidates: non-neighbour pairs near each other when the list was built
-  std::vector<RingPair> contact_candidates;  // (k) i < j
-  Positions contact_anchor;                  // (3, n) m, positions when the list was built
-  long long contact_rebuilds = 0;            // lists built so far
+  std::vector<RingPair> contact_candidates;  // (k) i < j, by colour
+  Colouring contact_colours;
+  Positions contact_anchor;        // (3, n) m, positions when the list was built
+  long long contact_rebuilds = 0;  // lists built so far
   // the last step's constraint solve: sweeps and Newton steps run, and the largest violation
   // left (the last sweep's, or the edges' and colliders' after the Newton steps)
   int sweeps = 0;
@@ -134,7 +152,10 @@ class PlausibleSim {
   int threads() const { return threads_; }
 
   const PlausibleModel& model() const { return model_; }
-  const PlausibleState& state() const { return state_; }
+  const PlausibleState& state() const {
+    if (orientation_stale_) orient();
+    return state_;
+  }
   PlausibleState& mutable_state() { return state_; }
   const StageProfile& profile() const { return profile_; }
   // largest relative over-extension of any edge, (length - max) / max, 0 when none
@@ -144,6 +165,9 @@ class PlausibleSim {
   void accumulate_forces();
   void add_repulsion_forces();
   void refresh_contact_candidates();
+  int substep_count() const;
+  // one predict-solve-update pass of h seconds; damps as for damp_dt seconds (0: not at all)
+  void substep(double h, double damp_dt);
   void integrate(double dt);
   void solve_positions();
   bool solves_contacts() const;
@@ -155,8 +179,9 @@ class PlausibleSim {
   double collider_rows(double near, std::vector<ProjectionRow>& rows);
   // one sweep each (edges: over the given list, the neighbours' or the diagonals'); they return
   // the largest violation they met, m
-  double solve_edges(const std::vector<EdgeConstraint>& edges);
+  double solve_edges(const std::vector<EdgeConstraint>& edges, const Colouring& colours);
   double solve_contacts();
+  double solve_attachments();
   // the diagonal records and the neighbours' closest approach (core/plausible_weave.cpp), m
   double build_compression_limits();
   bool is_diagonal(int a, int b) const;
@@ -164,12 +189,16 @@ class PlausibleSim {
   // m, how far ring's centre must stay from a collider with outward normal n
   double collider_margin(int ring, const Vec3& normal) const;
   void propagate_from_pins();
-  void update_velocities(double dt);
-  void orient();
+  void update_velocities(double dt, double damp_dt);
+  // orientations from the positions (const: they are derived, and computed on demand when no
+  // collider needs them every step)
+  void orient() const;
 
   Weave weave_;
   PlausibleModel model_;
-  PlausibleState state_;
+  // mutable only for the orientations orient() derives from the positions on demand
+  mutable PlausibleState state_;
+  mutable bool orientation_stale_ = false;
   SpatialHash hash_;
   Projection projection_;  // the Newton steps' factorisation, kept between steps
   StageProfile profile_;

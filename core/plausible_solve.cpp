@@ -7,10 +7,29 @@
 
 #include "core/colliders.hpp"
 #include "core/constraints.hpp"
+#include "core/parallel.hpp"
 #include "core/plausible.hpp"
 #include "core/projection.hpp"
 
 namespace chainmail {
+namespace {
+
+// one Gauss-Seidel sweep over coloured pairs, colour by colour; a colour's pairs share no ring,
+// so they run on the threads with the result of any order. solve(k) returns pair k's violation
+template <class Solve>
+double sweep_colours(const Colouring& colours, int threads, Solve&& solve) {
+  double worst = 0.0;  // m
+  for (int c = 0; c < colours.colours(); ++c) {
+    const int begin = colours.start[c], end = colours.start[c + 1];
+    const bool serial = colours.serial_tail && c + 1 == colours.colours();
+    const int team = serial ? 1 : loop_threads(threads, end - begin);
+#pragma omp parallel for schedule(static) num_threads(team) reduction(max : worst)
+    for (int k = begin; k < end; ++k) worst = std::max(worst, solve(k));
+  }
+  return worst;
+}
+
+}  // namespace
 
 void PlausibleSim::solve_positions() {
   if (model_.settings.shock_propagation && !model_.outward.empty()) propagate_from_pins();
@@ -22,9 +41,16 @@ void PlausibleSim::solve_positions() {
   state_.sweeps = 0;
   state_.newton_steps = 0;
   state_.residual = 0.0;
-  while (state_.sweeps < model_.settings.iterations) {
-    double residual = solve_edges(model_.edges);
-    if (!model_.diagonals.empty()) residual = std::max(residual, solve_edges(model_.diagonals));
+  const bool attached = !model_.attachments[0].empty();
+  // the step's sweeps are shared among its substeps
+  const int iterations = std::max(1, model_.settings.iterations / substep_count());
+  while (state_.sweeps < iterations) {
+    // the attachments first: the sheet-wide part of a stretch, then the edges fix the local one
+    double residual = attached ? solve_attachments() : 0.0;
+    residual = std::max(residual, solve_edges(model_.edges, model_.edge_colours));
+    if (!model_.diagonals.empty()) {
+      residual = std::max(residual, solve_edges(model_.diagonals, model_.diagonal_colours));
+    }
     if (contacts) residual = std::max(residual, solve_contacts());
     if (colliders) residual = std::max(residual, collide());
     ++state_.sweeps;
@@ -33,7 +59,8 @@ void PlausibleSim::solve_positions() {
   }
   // what the sweeps leave (the slow, sheet-wide part: a long hanging chain, a sheet over a table
   // edge), Newton steps on the edges and colliders together remove
-  if (model_.settings.newton_steps > 0) solve_together(tolerance);
+  const bool small = state_.position.cols() <= model_.settings.newton_max_rings;
+  if (model_.settings.newton_steps > 0 && small) solve_together(tolerance);
 }
 
 bool PlausibleSim::solves_contacts() const {
@@ -131,18 +158,41 @@ double PlausibleSim::collider_rows(double near, std::vector<ProjectionRow>& rows
   return worst;
 }
 
-double PlausibleSim::solve_edges(const std::vector<EdgeConstraint>& edges) {
+double PlausibleSim::solve_edges(const std::vector<EdgeConstraint>& edges,
+                                 const Colouring& colours) {
   auto scope = profile_.scope("constraints");
   Positions& p = state_.position;
   const std::vector<double>& w = model_.inverse_mass;
-  double worst = 0.0;  // m
-  for (const EdgeConstraint& e : edges) {
+  return sweep_colours(colours, threads_, [&](int k) {
+    const EdgeConstraint& e = edges[k];
     Vec3 corr0, corr1;
-    if (solve_edge_constraint(p.col(e.a), w[e.a], p.col(e.b), w[e.b], e.min_length, e.max_length,
-                              corr0, corr1)) {
-      p.col(e.a) += corr0;
-      p.col(e.b) += corr1;
-      worst = std::max(worst, (corr1 - corr0).norm());
+    if (!solve_edge_constraint(p.col(e.a), w[e.a], p.col(e.b), w[e.b], e.min_length, e.max_length,
+                               corr0, corr1)) {
+      return 0.0;
+    }
+    p.col(e.a) += corr0;
+    p.col(e.b) += corr1;
+    return (corr1 - corr0).norm();
+  });
+}
+
+double PlausibleSim::solve_attachments() {
+  auto scope = profile_.scope("constraints");
+  Positions& p = state_.position;
+  double worst = 0.0;  // m
+  // each list holds a ring once: its projections are independent
+  for (const std::vector<PinAttachment>& list : model_.attachments) {
+    const int count = static_cast<int>(list.size());
+#pragma omp parallel for schedule(static) num_threads(loop_threads(threads_, count)) \
+    reduction(max                                                                    \
+              : worst)
+    for (int k = 0; k < count; ++k) {
+      const PinAttachment& a = list[k];
+      Vec3 corr;
+      if (solve_attachment_constraint(p.col(a.ring), p.col(a.pin), a.max_distance, corr)) {
+        p.col(a.ring) += corr;
+        worst = std::max(worst, corr.norm());
+      }
     }
   }
   return worst;
@@ -192,6 +242,10 @@ double PlausibleSim::collide() {
   auto scope = profile_.scope("colliders");
   double worst = 0.0;  // m
   const int n = static_cast<int>(state_.position.cols());
+  // each ring against every collider: rings are independent
+#pragma omp parallel for schedule(static) num_threads(loop_threads(threads_, n)) \
+    reduction(max                                                                \
+              : worst)
   for (int i = 0; i < n; ++i) {
     if (model_.inverse_mass[i] == 0.0) continue;
     for (const Collider& collider : model_.colliders) {
@@ -211,30 +265,29 @@ double PlausibleSim::collide() {
 
 double PlausibleSim::solve_contacts() {
   auto scope = profile_.scope("self_contact");
-  double worst = 0.0;  // m
   Positions& p = state_.position;
   const Positions& before = state_.previous;
   const std::vector<double>& w = model_.inverse_mass;
   const double range = model_.repulsion_range;
-  for (const RingPair& pair : state_.contact_candidates) {
+  return sweep_colours(state_.contact_colours, threads_, [&](int k) {
+    const RingPair& pair = state_.contact_candidates[k];
     const double weight = w[pair.a] + w[pair.b];
-    if (weight == 0.0) continue;
+    if (weight == 0.0) return 0.0;
     // apart along the direction the pair had at the start of the step: a ring that passed
     // through another during the step goes back to its own side (no tunnelling), and the
     // distance is at least the separation along that direction
     Vec3 normal = before.col(pair.b) - before.col(pair.a);
     if (normal.squaredNorm() < 1e-24) normal = p.col(pair.b) - p.col(pair.a);
     const double length = normal.norm();
-    if (length < 1e-12) continue;
+    if (length < 1e-12) return 0.0;
     normal /= length;
     const double gap = (p.col(pair.b) - p.col(pair.a)).dot(normal) - range;  // m, < 0 too close
-    if (gap >= 0.0) continue;
+    if (gap >= 0.0) return 0.0;
     const Vec3 shift = (gap / weight) * normal;
     p.col(pair.a) += w[pair.a] * shift;
     p.col(pair.b) -= w[pair.b] * shift;
-    worst = std::max(worst, -gap);
-  }
-  return worst;
+    return -gap;
+  });
 }
 
 }  // namespace chainmail
