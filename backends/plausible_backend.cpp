@@ -50,7 +50,7 @@ const KnobTable<PlausibleSettings>& plausible_knobs() {
               "allow (keeps large hanging sheets from stretching)");
     t.integer("substeps", &S::substeps, 0, 10000,
               "equal substeps per step, the step's sweeps shared among them (0: 1 where the "
-              "Newton steps run, iterations substeps of one sweep each otherwise)");
+              "Newton steps run, 16 of one sweep each otherwise)");
     t.integer("newton_max_rings", &S::newton_max_rings, 0, 1000000000,
               "Newton steps only on scenes with at most this many rings (their direct solve "
               "grows faster than the ring count)");

@@ -125,7 +125,10 @@ int PlausibleSim::substep_count() const {
   if (model_.settings.substeps > 0) return model_.settings.substeps;
   const bool newton = model_.settings.newton_steps > 0 &&
                       state_.position.cols() <= model_.settings.newton_max_rings;
-  return newton ? 1 : model_.settings.iterations;
+  // past the Newton steps' size: 16 substeps of one sweep. A 256 x 256 curtain released from the
+  // layout stretches its links to 1.031 ID over 0.4 s at 10, 0.997 at 15 (0.987 at 20)
+  constexpr int kLargeSheetSubsteps = 16;
+  return newton ? 1 : kLargeSheetSubsteps;
 }
 
 void PlausibleSim::substep(double h, double damp_dt) {
@@ -180,9 +183,8 @@ void PlausibleSim::refresh_contact_candidates() {
   if (skin > 0.0 && state_.contact_anchor.cols() == n) {
     const double limit2 = 0.25 * skin * skin;
     double farthest2 = 0.0;  // m^2
-#pragma omp parallel for schedule(static) num_threads(loop_threads(threads_, n)) \
-    reduction(max                                                                \
-              : farthest2)
+    const int team = loop_threads(threads_, n);
+#pragma omp parallel for schedule(static) num_threads(team) reduction(max : farthest2)
     for (int i = 0; i < n; ++i) {
       farthest2 = std::max(farthest2,
                            (state_.position.col(i) - state_.contact_anchor.col(i)).squaredNorm());
@@ -190,14 +192,27 @@ void PlausibleSim::refresh_contact_candidates() {
     if (farthest2 <= limit2) return;
   }
   const double radius = model_.repulsion_range + skin;
-  state_.contact_candidates.clear();
   hash_.build(state_.position, radius);
-  hash_.for_each_pair(state_.position, radius, [&](int i, int j) {
-    const auto& nb = weave_.neighbours[i];
-    if (nb[0] == j || nb[1] == j || nb[2] == j || nb[3] == j) return;  // linked: constraints
-    if (is_diagonal(i, j)) return;  // sharing two neighbours: a minimum distance of its own
-    state_.contact_candidates.push_back({i, j});
-  });
+  // the pair walk in one part per thread, each into its own list, joined in order: the same list
+  // for any thread count
+  const int walk = hash_.pair_walk_size(state_.position);
+  const int parts = loop_threads(threads_, walk, 4096);
+  std::vector<std::vector<RingPair>> found(parts);
+#pragma omp parallel for schedule(static) num_threads(parts)
+  for (int part = 0; part < parts; ++part) {
+    const int begin = static_cast<int>(static_cast<long long>(walk) * part / parts);
+    const int end = static_cast<int>(static_cast<long long>(walk) * (part + 1) / parts);
+    hash_.for_each_pair_in(state_.position, radius, begin, end, [&](int i, int j) {
+      const auto& nb = weave_.neighbours[i];
+      if (nb[0] == j || nb[1] == j || nb[2] == j || nb[3] == j) return;  // linked: constraints
+      if (is_diagonal(i, j)) return;  // sharing two neighbours: a minimum distance of its own
+      found[part].push_back({i, j});
+    });
+  }
+  state_.contact_candidates.clear();
+  for (const auto& part : found) {
+    state_.contact_candidates.insert(state_.contact_candidates.end(), part.begin(), part.end());
+  }
   state_.contact_colours = colour_pairs(state_.contact_candidates, n);
   state_.contact_anchor = state_.position;
   ++state_.contact_rebuilds;

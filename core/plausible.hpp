@@ -31,8 +31,8 @@ struct PlausibleSettings {
   int newton_steps = 30;
   // equal substeps per step, each a full predict-solve-velocity pass with iterations / substeps
   // sweeps (at least one): the same sweeps, but a stretch left by one substep is g (dt/s)^2 small
-  // (Macklin et al. 2019, "Small Steps"). 0: 1 where the Newton steps run, `iterations` (one
-  // sweep each) on larger scenes, whose sweeps alone do not converge
+  // (Macklin et al. 2019, "Small Steps"). 0: 1 where the Newton steps run, 16 (of one sweep
+  // each) on larger scenes, whose sweeps alone do not converge
   int substeps = 0;
   // the links' largest length from the ring geometry, for the two rings as the model turns them at
   // full extension (exact circle-circle distance); where the geometry gives none (4-in-1 at the

@@ -183,9 +183,8 @@ double PlausibleSim::solve_attachments() {
   // each list holds a ring once: its projections are independent
   for (const std::vector<PinAttachment>& list : model_.attachments) {
     const int count = static_cast<int>(list.size());
-#pragma omp parallel for schedule(static) num_threads(loop_threads(threads_, count)) \
-    reduction(max                                                                    \
-              : worst)
+    const int team = loop_threads(threads_, count);
+#pragma omp parallel for schedule(static) num_threads(team) reduction(max : worst)
     for (int k = 0; k < count; ++k) {
       const PinAttachment& a = list[k];
       Vec3 corr;
@@ -243,9 +242,8 @@ double PlausibleSim::collide() {
   double worst = 0.0;  // m
   const int n = static_cast<int>(state_.position.cols());
   // each ring against every collider: rings are independent
-#pragma omp parallel for schedule(static) num_threads(loop_threads(threads_, n)) \
-    reduction(max                                                                \
-              : worst)
+  const int team = loop_threads(threads_, n);
+#pragma omp parallel for schedule(static) num_threads(team) reduction(max : worst)
   for (int i = 0; i < n; ++i) {
     if (model_.inverse_mass[i] == 0.0) continue;
     for (const Collider& collider : model_.colliders) {

@@ -51,7 +51,18 @@ class SpatialHash {
   void for_each_near(const Positions& points, int i, double radius, Visit&& visit) const;
   // every unordered pair (i < j) closer than `radius`, each once; radius <= cell size
   template <class Visit>
-  void for_each_pair(const Positions& points, double radius, Visit&& visit) const;
+  void for_each_pair(const Positions& points, double radius, Visit&& visit) const {
+    for_each_pair_in(points, radius, 0, pair_walk_size(points), visit);
+  }
+  // the same walk in parts: for_each_pair is for_each_pair_in over [0, pair_walk_size) and the
+  // parts of any split, run one after the other, meet the pairs in the same order (so threads may
+  // each walk a part into its own list, and the lists joined in order equal the whole walk)
+  int pair_walk_size(const Positions& points) const {
+    return dense_ ? static_cast<int>(sorted_.size()) : static_cast<int>(points.cols());
+  }
+  template <class Visit>
+  void for_each_pair_in(const Positions& points, double radius, int begin, int end,
+                        Visit&& visit) const;
 
   bool dense() const { return dense_; }
   int table_size() const { return static_cast<int>(bucket_start_.size()) - 1; }
@@ -138,15 +149,15 @@ void SpatialHash::for_each_near(const Positions& points, int i, double radius,
 }
 
 template <class Visit>
-void SpatialHash::for_each_pair(const Positions& points, double radius, Visit&& visit) const {
+void SpatialHash::for_each_pair_in(const Positions& points, double radius, int begin, int end,
+                                   Visit&& visit) const {
   // half shell: each point looks at later points of its own cell and every point of the 13 cells
   // lexicographically after its own, so each pair is met exactly once
   const double r2 = radius * radius;
   if (dense_) {
     // walk the points in cell order; the half shell is 5 runs along z: the rest of the own cell
     // and the next z cell, then the rows (0, +1) and (+1, -1..+1) of 3 cells each
-    const int count = static_cast<int>(sorted_.size());
-    for (int s = 0; s < count; ++s) {
+    for (int s = begin; s < end; ++s) {
       const int i = sorted_[s];
       const Vec3 p = sorted_position_.col(s);
       const auto cell = static_cast<std::int64_t>(sorted_key_[s]);
@@ -165,7 +176,7 @@ void SpatialHash::for_each_pair(const Positions& points, double radius, Visit&& 
     }
     return;
   }
-  for (int i = 0; i < points.cols(); ++i) {
+  for (int i = begin; i < end; ++i) {
     const Vec3 p = points.col(i);
     if (!in_grid(p)) continue;
     const std::int64_t cx = cell_of(p.x()), cy = cell_of(p.y()), cz = cell_of(p.z());
