@@ -64,6 +64,15 @@ std::string backends_help(const std::string& what) {
   return what + ": a comma-separated list of " + names + "; or all";
 }
 
+// --threads N: threads each backend run steps on (the result does not depend on it)
+void add_threads(CLI::App& sub, int& threads, const std::string& fallback) {
+  sub.add_option("--threads", threads,
+                 "threads each backend run steps on (default: " + fallback +
+                     "); results are the same for any count")
+      ->check(CLI::Range(1, 4096))
+      ->default_str("");
+}
+
 struct RenderFlags {
   CLI::App* app = nullptr;
   chainmail::RenderCommand command;
@@ -150,6 +159,7 @@ void add_run(CLI::App& app, RunFlags& flags) {
   sub->add_option("--cache", run.cache_dir,
                   "reference-run cache folder, or none (default ~/.cache/chainmail)");
   sub->add_flag("--quiet", flags.quiet, "no progress lines");
+  add_threads(*sub, run.threads, "every hardware thread");
 }
 
 void add_sweep(CLI::App& app, SweepFlags& flags) {
@@ -178,6 +188,7 @@ void add_sweep(CLI::App& app, SweepFlags& flags) {
                   "write a script that submits the sweep to Slurm (reference, array, gather)");
   sub->add_option("--cache", sweep.cache_dir,
                   "reference-run cache folder, or none (default ~/.cache/chainmail)");
+  add_threads(*sub, sweep.threads, "the hardware threads divided among --jobs");
 }
 
 void add_stability(CLI::App& app, StabilityFlags& flags) {
@@ -189,6 +200,7 @@ void add_stability(CLI::App& app, StabilityFlags& flags) {
   sub->add_flag("--force", stability.force, "replace an empty folder chainmail did not make");
   sub->add_flag("--quick", stability.quick, "tiny sizes (test mode)");
   sub->add_option("--max-wall", stability.max_wall_seconds, "watchdog per run, s");
+  add_threads(*sub, stability.threads, "every hardware thread");
 }
 
 void add_bench(CLI::App& app, BenchFlags& flags) {
@@ -201,6 +213,7 @@ void add_bench(CLI::App& app, BenchFlags& flags) {
   sub->add_option("--backends", flags.backends, backends_help("backends"))->default_str("all");
   sub->add_option("--jobs", bench.jobs, "sweep points in parallel")->check(CLI::Range(1, 256));
   sub->add_flag("--no-render", flags.no_render, "skip the side-by-side frames");
+  add_threads(*sub, bench.threads, "every hardware thread; sweeps: divided among --jobs");
 }
 
 // the end of --help: exit statuses, and where the bench scenes are

@@ -49,6 +49,12 @@ class HarnessSignals {
   }, old_term_{};
 };
 
+// threads as the command line takes them (0: the command's default)
+int checked_threads(int threads) {
+  if (threads < 0) throw py::value_error("threads: " + std::to_string(threads) + " is below 0");
+  return threads;
+}
+
 nlohmann::json read_json(const std::string& path) {
   std::ifstream in(path);
   return nlohmann::json::parse(in);
@@ -83,7 +89,7 @@ void without_the_gil(Command&& command) {
 
 py::object run(const PyScene& scene, const std::vector<std::string>& backends,
                const std::optional<std::string>& out, const std::string& reference,
-               const std::string& cache, bool progress) {
+               const std::string& cache, bool progress, int threads) {
   std::optional<TemporaryFolder> temporary;
   if (!out) temporary.emplace();
   RunCommand command;
@@ -94,13 +100,14 @@ py::object run(const PyScene& scene, const std::vector<std::string>& backends,
   command.reference = reference;
   command.cache_dir = cache;
   command.progress = progress;
+  command.threads = checked_threads(threads);
   without_the_gil([&] { return run_command(command); });
   return to_python(read_json(command.out_dir + "/summary.json"));
 }
 
 std::string sweep(const PyScene& scene, const std::vector<std::string>& vary,
                   const std::vector<std::string>& backends, const std::optional<std::string>& out,
-                  int jobs, const std::string& cache, bool progress) {
+                  int jobs, const std::string& cache, bool progress, int threads) {
   SweepCommand command;
   command.scene_file = scene.path;
   command.overrides = scene.overrides;
@@ -110,6 +117,7 @@ std::string sweep(const PyScene& scene, const std::vector<std::string>& vary,
   command.jobs = jobs;
   command.cache_dir = cache;
   command.progress = progress;
+  command.threads = checked_threads(threads);
   command.executable = g_executable;
   without_the_gil([&] { return sweep_command(command); });
   return command.out_dir;
@@ -120,12 +128,14 @@ std::string sweep(const PyScene& scene, const std::vector<std::string>& vary,
 void add_commands(py::module_& m) {
   m.def("run", &run, py::arg("scene"), py::arg("backends") = std::vector<std::string>{},
         py::arg("out") = py::none(), py::arg("reference") = "", py::arg("cache") = "",
-        py::arg("progress") = false,
+        py::arg("progress") = false, py::arg("threads") = 0,
         "`chainmail run`: the scene through the backends (default: the scene's); returns the "
-        "summary (summary.json) as a dict. out: keep the run folder there (default: none kept)");
+        "summary (summary.json) as a dict. out: keep the run folder there (default: none kept); "
+        "threads: as --threads (0: every hardware thread)");
   m.def("_sweep", &sweep, py::arg("scene"), py::arg("vary"),
         py::arg("backends") = std::vector<std::string>{}, py::arg("out") = py::none(),
-        py::arg("jobs") = 1, py::arg("cache") = "", py::arg("progress") = false);
+        py::arg("jobs") = 1, py::arg("cache") = "", py::arg("progress") = false,
+        py::arg("threads") = 0);
   m.def("_set_executable", [](const std::string& path) { g_executable = path; });
 }
 

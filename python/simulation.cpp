@@ -14,6 +14,7 @@
 #include "core/metrics.hpp"
 #include "python/bindings.hpp"
 #if CHAINMAIL_HAVE_RENDER
+#include "core/parallel.hpp"
 #include "render/renderer.hpp"
 #endif
 
@@ -22,8 +23,9 @@ namespace {
 
 class Simulation {
  public:
-  Simulation(const PyScene& scene, const std::string& backend, const py::dict& knobs)
+  Simulation(const PyScene& scene, const std::string& backend, const py::dict& knobs, int threads)
       : backend_name_(backend) {
+    if (threads < 0) throw py::value_error("threads: " + std::to_string(threads) + " is below 0");
     // the knobs as overrides of backends.<name>, so that they are checked as a scene file's are
     std::vector<std::string> sets = scene.overrides;
     for (const std::string& knob : override_texts(knobs))
@@ -35,6 +37,7 @@ class Simulation {
     knobs_ = resolve_knobs(scene_, info);
     weave_ = make_weave(scene_.weave, scene_.ring);
     model_ = info.create();
+    model_->set_threads(threads > 0 ? threads : hardware_threads());
     model_->reset(scene_, weave_, knobs_);
     model_->frame(frame_);
   }
@@ -140,8 +143,9 @@ py::array_t<std::uint8_t> render_frames(const std::vector<const Simulation*>& si
 
 void add_simulation(py::module_& m) {
   py::class_<Simulation>(m, "Simulation", "one backend stepped from Python")
-      .def(py::init<const PyScene&, const std::string&, const py::dict&>(), py::arg("scene"),
-           py::arg("backend"), py::arg("knobs") = py::dict())
+      .def(py::init<const PyScene&, const std::string&, const py::dict&, int>(), py::arg("scene"),
+           py::arg("backend"), py::arg("knobs") = py::dict(), py::arg("threads") = 0,
+           "threads: those step() may use (0: every hardware thread)")
       .def("step", &Simulation::step, py::arg("dt") = py::none(), py::arg("n") = 1,
            "advance n steps of dt (default: the backend's dt knob); False once not finite")
       .def("metrics", &Simulation::metrics, "the metrics of the current frame, as summary.json")

@@ -18,6 +18,7 @@
 #include "bench/harness/stability.hpp"
 #include "bench/harness/sweep.hpp"
 #include "bench/harness/table_cells.hpp"
+#include "core/parallel.hpp"
 
 namespace chainmail {
 namespace fs = std::filesystem;
@@ -158,6 +159,7 @@ void run_scenes(const BenchRun& bench) {
     options.backends = bench.backends();
     options.progress = bench.command.progress;
     options.cache_dir = bench.cache;
+    options.threads = bench.command.threads > 0 ? bench.command.threads : hardware_threads();
     options.folder = bench.out + "/" + scene.name;
     options.keep_stream = static_cast<bool>(bench.render);
     const SceneRun run = run_scene(scene, options);
@@ -183,6 +185,7 @@ void run_sweeps(const BenchRun& bench) {
     sweep.backends = bench.backends();
     sweep.out_dir = bench.out + "/sweep/" + fs::path(step.file).stem().string();
     sweep.jobs = bench.command.jobs;
+    sweep.threads = bench.command.threads;
     sweep.executable = bench.command.executable;
     sweep.progress = bench.command.progress;
     sweep.cache_dir = bench.cache;

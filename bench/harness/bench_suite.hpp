@@ -14,6 +14,7 @@ struct BenchCommand {
   std::vector<std::string> backends;
   std::string executable;
   int jobs = 2;
+  int threads = 0;  // threads of each scene run; 0: every hardware thread (sweeps: shared by jobs)
   bool render = true;
   bool progress = true;
 };

@@ -10,6 +10,7 @@
 #include "bench/harness/run.hpp"
 #include "bench/harness/scene_file.hpp"
 #include "bench/harness/usage_error.hpp"
+#include "core/parallel.hpp"
 
 namespace chainmail {
 
@@ -49,6 +50,7 @@ RunOptions run_options(const RunCommand& command, const Scene& scene) {
   options.reference = command.reference;
   options.frame_csv = command.frames || scene.write_frames;
   options.keep_stream = command.render || !command.exports.empty();
+  options.threads = command.threads > 0 ? command.threads : hardware_threads();
   return options;
 }
 

@@ -37,6 +37,7 @@ struct RunCommand {
   std::string reference;  // "" = the scene's, "none" = no reference run
   std::vector<std::string> overrides;
   bool progress = true;
+  int threads = 0;        // threads each backend steps on; 0: every hardware thread
   std::string cache_dir;  // "" = default_cache_dir(), "none" = no cache
   Budget budget;
   // --export: gltf and/or npz, every backend's frames into export/<backend>.glb|.npz

@@ -127,12 +127,10 @@ nlohmann::json summary_json(const SceneRun& run) {
                  {"centre_radius", run.scene.ring.centre_radius},
                  {"mass", run.scene.ring.mass()},
                  {"count", run.weave.size()}};
-  out["build"] = {{"version", chainmail_version()},
-                  {"commit", chainmail_commit()},
-                  {"compiler", chainmail_compiler()},
-                  {"build_type", chainmail_build_type()},
-                  {"threads", 1},
-                  {"host_cores", std::thread::hardware_concurrency()}};
+  out["build"] = {
+      {"version", chainmail_version()},   {"commit", chainmail_commit()},
+      {"compiler", chainmail_compiler()}, {"build_type", chainmail_build_type()},
+      {"threads", run.threads},           {"host_cores", std::thread::hardware_concurrency()}};
   if (run.reference_note) out["reference"] = *run.reference_note;
   out["interrupted"] = run.interrupted;
   nlohmann::json backends = nlohmann::json::object();

@@ -105,6 +105,7 @@ class BackendRunner {
     run_.name = info.name;
     run_.knobs = resolve_knobs(scene, info);
     run_.dt = run_.knobs.at("dt");
+    backend_->set_threads(options.threads);
     backend_->reset(scene, weave, run_.knobs);
     total_steps_ = std::max(1LL, std::llround(scene.duration / run_.dt));
     steps_per_sample_ = std::max(1LL, std::llround(scene.sample_interval / run_.dt));

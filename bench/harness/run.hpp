@@ -36,6 +36,7 @@ struct RunOptions {
   std::string folder;
   bool frame_csv = false;    // frames/<backend>/<NNNNN>.csv under folder
   bool keep_stream = false;  // every backend's frames in .streams/ under folder (for rendering)
+  int threads = 1;           // threads each backend steps on (Backend::set_threads)
 };
 
 struct Sample {
@@ -60,7 +61,7 @@ struct BackendRun {
   std::optional<Sample> last;         // the last sample (absent when the run never started)
   RingFrame final_frame;
   std::map<std::string, StageStats> stages;
-  ResidualStats residual;  // steps = 0: the backend reports none
+  ResidualStats residual;                // steps = 0: the backend reports none
   std::optional<double> catenary_error;  // chains pinned at both ends: sag against the catenary
   double peak_stretch = 0.0;             // largest max_stretch over every sample
   std::optional<bool> settled;           // absent when the run did not end stable
@@ -80,6 +81,7 @@ struct SceneRun {
   std::vector<BackendRun> runs;
   std::optional<std::string> reference_note;  // where drape_rms came from
   bool interrupted = false;                   // a signal stopped it: some runs did not finish
+  int threads = 1;                            // threads each backend stepped on
   bool all_stable() const;
 };
 

@@ -188,6 +188,7 @@ SceneRun run_scene(const Scene& scene, const RunOptions& options) {
   SceneRun result;
   result.scene = scene;
   result.weave = make_weave(scene.weave, scene.ring);
+  result.threads = options.threads;
   validate_backend_knobs(scene);
   const std::vector<std::string> names = select_backends(scene, options.backends);
   // the reference first: from the cache, a selected run moved to the front, or a run of its own

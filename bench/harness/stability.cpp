@@ -10,13 +10,14 @@
 
 #include "backends/backend.hpp"
 #include "bench/harness/commands.hpp"
+#include "bench/harness/data_dir.hpp"
 #include "bench/harness/interrupt.hpp"
 #include "bench/harness/output.hpp"
 #include "bench/harness/output_folder.hpp"
-#include "bench/harness/data_dir.hpp"
 #include "bench/harness/run.hpp"
 #include "bench/harness/scene_file.hpp"
 #include "bench/harness/table_cells.hpp"
+#include "core/parallel.hpp"
 
 namespace chainmail {
 using json = nlohmann::json;
@@ -97,6 +98,7 @@ SuiteRuns suite_runs(const StabilityCommand& command) {
   runs.verdict.progress = false;
   runs.verdict.other_pair_metrics = true;
   runs.verdict.max_wall_seconds = command.max_wall_seconds;
+  runs.verdict.threads = command.threads > 0 ? command.threads : hardware_threads();
   runs.search = runs.verdict;
   runs.search.other_pair_metrics = false;
   return runs;

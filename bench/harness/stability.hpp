@@ -15,6 +15,7 @@ struct StabilityCommand {
   bool force = false;
   bool quick = false;              // tiny sizes, for tests
   double max_wall_seconds = 30.0;  // watchdog per run
+  int threads = 0;                 // threads each run steps on; 0: every hardware thread
   bool progress = true;
 };
 int stability_command(const StabilityCommand& command);

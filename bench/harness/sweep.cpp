@@ -23,6 +23,7 @@
 #include "bench/harness/scene_file.hpp"
 #include "bench/harness/sweep_jobs.hpp"
 #include "bench/harness/usage_error.hpp"
+#include "core/parallel.hpp"
 
 namespace chainmail {
 namespace fs = std::filesystem;
@@ -102,7 +103,10 @@ double reference_run_dt(double scene_reference_dt, double scene_dt,
   return dt;
 }
 
-namespace {}  // namespace
+int sweep_threads(const SweepCommand& command) {
+  if (command.threads > 0) return command.threads;
+  return std::max(1, hardware_threads() / std::max(1, command.jobs));
+}
 
 std::vector<std::string> SweepJobs::args(const SweepPoint& p, size_t k,
                                          const std::string& folder) const {
@@ -115,6 +119,8 @@ std::vector<std::string> SweepJobs::args(const SweepPoint& p, size_t k,
                                    folder + "/points/" + std::to_string(k),
                                    "--cache",
                                    cache.empty() ? "none" : cache,
+                                   "--threads",
+                                   std::to_string(threads),
                                    "--quiet"};
   for (const auto& s : overrides) args.insert(args.end(), {"--set", s});
   for (const auto& s : p.sets) args.insert(args.end(), {"--set", s});
@@ -187,6 +193,7 @@ void cache_reference(const SweepCommand& command, const SweepJobs& jobs) {
   RunOptions options;
   options.progress = command.progress;
   options.cache_dir = jobs.cache;
+  options.threads = jobs.threads;
   std::vector<std::string> sets = command.overrides;
   sets.push_back(jobs.reference_set);
   const Scene scene = load_scene_file(command.scene_file, sets);
@@ -264,6 +271,7 @@ SweepPlan plan_sweep(const SweepCommand& command) {
   plan.jobs.scene_file = command.scene_file;
   plan.jobs.cache = resolve_cache_dir(command.cache_dir);
   plan.jobs.overrides = command.overrides;
+  plan.jobs.threads = sweep_threads(command);
   plan.jobs.reference_set =
       "reference_dt=" + csv_number(sweep_reference_dt(plan.base, plan.points, dts));
   return plan;

@@ -15,6 +15,7 @@ struct SweepCommand {
   std::string out_dir;  // default results/<scene>/sweep
   bool force = false;   // replace a foreign empty folder at out_dir
   int jobs = 1;
+  int threads = 0;  // threads each point steps on; 0: the hardware threads shared by the jobs
   bool print_jobs = false;      // print the reference job, then one `chainmail run` per point; stop
   bool reference_only = false;  // run the reference into the cache and stop (the reference job)
   std::string gather;           // DIR: sweep.csv and the plot from DIR/points/K, run elsewhere
@@ -23,6 +24,8 @@ struct SweepCommand {
   bool progress = true;
   std::string cache_dir;  // "" = the default cache folder, "none" = no cache
 };
+// threads each point steps on: --threads, else the hardware threads divided among the jobs
+int sweep_threads(const SweepCommand& command);
 int sweep_command(const SweepCommand& command);
 
 // one --vary axis

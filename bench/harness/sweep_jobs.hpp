@@ -16,6 +16,7 @@ struct SweepJobs {
   std::string executable, scene_file, cache;  // cache "" = none
   std::vector<std::string> overrides;         // the command's own, before each point's
   std::string reference_set;                  // reference_dt=..., after each point's
+  int threads = 1;                            // --threads of each point
 
   // point k's command line, writing into `folder`/points/k (argv form, no shell in between)
   std::vector<std::string> args(const SweepPoint& p, size_t k, const std::string& folder) const;

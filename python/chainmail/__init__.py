@@ -49,7 +49,7 @@ def _executable():
 _chainmail._set_executable(_executable())
 
 
-def sweep(scene, vary, backends=(), out=None, jobs=1, cache="", progress=False):
+def sweep(scene, vary, backends=(), out=None, jobs=1, cache="", progress=False, threads=0):
     """`chainmail sweep`: one run per point of the grid `vary` (["KEY=v1,v2", ...]).
 
     Writes the sweep folder (default results/<scene>/sweep) and returns
@@ -58,7 +58,8 @@ def sweep(scene, vary, backends=(), out=None, jobs=1, cache="", progress=False):
     """
     if isinstance(vary, str):
         vary = [vary]
-    folder = _chainmail._sweep(scene, list(vary), list(backends), out, jobs, cache, progress)
+    folder = _chainmail._sweep(scene, list(vary), list(backends), out, jobs, cache, progress,
+                               threads)
     with open(_os.path.join(folder, "sweep.csv"), newline="") as f:
         points = [{key: _cell(value) for key, value in row.items()} for row in _csv.DictReader(f)]
     return {"folder": folder, "points": points}

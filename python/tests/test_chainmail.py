@@ -96,6 +96,23 @@ def test_run_returns_the_summary_of_the_command_line(curtain, binary, tmp_path):
     assert kept["backends"]["plausible"]["hash"] == cli["backends"]["plausible"]["hash"]
 
 
+def test_threads_change_nothing_but_the_recorded_count(curtain):
+    # 40 x 40 rings: large enough for the plausible step's loops to split
+    scene = chainmail.load_scene(curtain, {"weave.rows": 40, "weave.cols": 40, "duration": 0.08})
+    hashes = []
+    for threads in (1, 2):
+        sim = chainmail.Simulation(scene, "plausible", threads=threads)
+        sim.step(n=20)
+        hashes.append(sim.hash)
+    assert hashes[0] == hashes[1]
+    summary = chainmail.run(scene, backends=["plausible"], reference="none", cache="none",
+                            threads=2)
+    assert summary["build"]["threads"] == 2
+    assert summary["backends"]["plausible"]["hash"] == hashes[1]
+    with pytest.raises(ValueError, match="threads"):
+        chainmail.Simulation(scene, "plausible", threads=-1)
+
+
 def test_sweep_returns_one_row_per_point(curtain, tmp_path):
     scene = chainmail.load_scene(curtain, {"weave.rows": 4, "weave.cols": 4, "duration": 0.04,
                                            "reference": "plausible"})

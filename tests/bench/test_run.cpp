@@ -13,8 +13,10 @@
 #include "bench/harness/output.hpp"
 #include "bench/harness/run.hpp"
 #include "bench/harness/scene_file.hpp"
+#include "bench/harness/sweep.hpp"
 #include "bench/harness/usage_error.hpp"
 #include "bench/harness/version.hpp"
+#include "core/parallel.hpp"
 
 namespace chainmail {
 namespace {
@@ -197,6 +199,40 @@ TEST(Run, SameSceneTwiceSameHash) {
   EXPECT_NE(a.runs[0].hash, 0u);
 }
 
+TEST(Run, ThreadCountChangesNeitherTheResultNorWhatIsRecorded) {
+  // a 40 x 40 curtain with self-contact (large enough for every loop of the plausible step to
+  // split): --threads 1 and 2 end on the same bits, and the summary records the count used
+  const Scene scene = scene_from_json(
+      json{{"name", "threads"},
+           {"weave", {{"type", "4in1"}, {"rows", 40}, {"cols", 40}, {"plane", "xy"}}},
+           {"pins", json::array({{{"edge", "top"}}})},
+           {"features", {{"self_contact", true}}},
+           {"duration", 0.1},
+           {"sample_interval", 0.05},
+           {"backends", {{"plausible", json::object()}}}},
+      "test");
+  RunOptions one = quiet(), two = quiet();
+  one.reference = two.reference = kNoReference;
+  one.threads = 1;
+  two.threads = 2;
+  const SceneRun a = run_scene(scene, one);
+  const SceneRun b = run_scene(scene, two);
+  ASSERT_EQ(a.runs.size(), 1u);
+  EXPECT_EQ(a.runs[0].hash, b.runs[0].hash);
+  EXPECT_EQ(summary_json(a)["build"]["threads"], 1);
+  EXPECT_EQ(summary_json(b)["build"]["threads"], 2);
+}
+
+TEST(Run, SweepPointsShareTheHardwareThreads) {
+  SweepCommand command;
+  command.jobs = 1;
+  EXPECT_EQ(sweep_threads(command), hardware_threads());
+  command.jobs = 2 * hardware_threads();
+  EXPECT_EQ(sweep_threads(command), 1);  // never fewer than one
+  command.threads = 3;
+  EXPECT_EQ(sweep_threads(command), 3);  // --threads wins
+}
+
 TEST(Run, InjectedInstabilityIsReportedNotCrashed) {
   // a time step far too large for the paper's explicit repulsion springs, with one sweep and no
   // Newton steps to hold the weave together. A range of 1.5 inner diameters puts
@@ -206,11 +242,13 @@ TEST(Run, InjectedInstabilityIsReportedNotCrashed) {
   json doc = scene_to_json(small_curtain(1.0));
   doc["weave"] = {{"type", "4in1"}, {"rows", 8}, {"cols", 8}, {"plane", "xz"}};
   doc["pins"] = json::array();
-  doc["backends"] = {
-      {"plausible", {{"dt", 0.05},
-         {"repulsion_spring", true},
-         {"newton_steps", 0},
-         {"iterations", 1}, {"repulsion_stiffness", 1e6}, {"repulsion_fraction", 1.5}}}};
+  doc["backends"] = {{"plausible",
+                      {{"dt", 0.05},
+                       {"repulsion_spring", true},
+                       {"newton_steps", 0},
+                       {"iterations", 1},
+                       {"repulsion_stiffness", 1e6},
+                       {"repulsion_fraction", 1.5}}}};
   const Scene scene = scene_from_json(doc, "test");
   const SceneRun run = run_scene(scene, quiet());
   ASSERT_EQ(run.runs.size(), 1u);
@@ -375,8 +413,8 @@ TEST(Run, SettledAgainstTheEnergyReleased) {
   const Weave weave = make_weave(lone.weave, lone.ring);
   const Orientations& o = weave.rest_orientation;
   const Vec3 axis = Quat(o(0, 0), o(1, 0), o(2, 0), o(3, 0)) * Vec3::UnitY();
-  const double reach = lone.ring.wire_radius +
-                       lone.ring.centre_radius * std::sqrt(1.0 - axis.y() * axis.y());
+  const double reach =
+      lone.ring.wire_radius + lone.ring.centre_radius * std::sqrt(1.0 - axis.y() * axis.y());
   doc["weave"]["center"] = {0, reach, 0};
   doc["colliders"] = json::array({{{"type", "plane"}, {"point", {0, 0, 0}}}});
   doc["duration"] = 1.0;

@@ -925,6 +925,15 @@ def flag_cases(cases):
             ("--jobs",))
     add("flag.bench.jobs-zero", ["bench", "--quick", "--no-render", "--backends", "plausible",
                                  "--jobs", "0"], ("--jobs",))
+    for variant, value in [("zero", "0"), ("minus-1", "-1"), ("text", "abc"), ("empty", ""),
+                           ("fraction", "1.5"), ("huge", "99999999999")]:
+        add(f"flag.run.threads-{variant}", RUN + ["--threads", value], ("--threads",))
+        add(f"flag.sweep.threads-{variant}",
+            sweep + ["--backends", "plausible", "--threads", value], ("--threads",))
+    add("flag.stability.threads-zero",
+        ["stability", "--quick", "--backends", "plausible", "--threads", "0"], ("--threads",))
+    add("flag.bench.threads-zero", ["bench", "--quick", "--no-render", "--backends", "plausible",
+                                    "--threads", "0"], ("--threads",))
     for variant, value in [("unknown", "nosuch"), ("all", "all"), ("list", "plausible,massspring")]:
         add(f"flag.reference.{variant}", RUN + ["--reference", value], ("--reference",))
     for flag in ("--max-memory", "--max-hours"):
