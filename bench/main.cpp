@@ -47,6 +47,7 @@ struct BenchFlags {
   chainmail::BenchCommand command;
   std::string backends;
   bool no_render = false;
+  bool no_scaling = false;
 };
 struct InfoFlags {
   CLI::App* backends = nullptr;
@@ -213,6 +214,10 @@ void add_bench(CLI::App& app, BenchFlags& flags) {
   sub->add_option("--backends", flags.backends, backends_help("backends"))->default_str("all");
   sub->add_option("--jobs", bench.jobs, "sweep points in parallel")->check(CLI::Range(1, 256));
   sub->add_flag("--no-render", flags.no_render, "skip the side-by-side frames");
+  sub->add_flag("--no-scaling", flags.no_scaling, "skip the scaling table");
+  sub->add_option("--scaling-max", bench.scaling_max,
+                  "largest sheet of the scaling table, rings a side (16 to 256)")
+      ->check(CLI::Range(4, 256));
   add_threads(*sub, bench.threads, "every hardware thread; sweeps: divided among --jobs");
 }
 
@@ -333,6 +338,7 @@ int bench_main(BenchFlags& flags, const char* argv0) {
   read_backends(flags.app, flags.backends, flags.command.backends);
   flags.command.executable = self_path(argv0);
   flags.command.render = !flags.no_render;
+  flags.command.scaling = !flags.no_scaling;
   return chainmail::bench_command(flags.command);
 }
 

@@ -39,7 +39,7 @@ install(FILES tests/backends/backend_contract.hpp tests/backends/backend_sim.hpp
         DESTINATION ${chainmail_include}/testing)
 
 install(DIRECTORY shaders bench/scenes DESTINATION ${CHAINMAIL_INSTALL_DATADIR})
-install(FILES bench/plot_sweep.py docs/scene.schema.json DESTINATION ${CHAINMAIL_INSTALL_DATADIR})
+install(FILES bench/plot_sweep.py bench/plot_scaling.py docs/scene.schema.json DESTINATION ${CHAINMAIL_INSTALL_DATADIR})
 install(FILES README.md LICENSE CITATION.cff DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(DIRECTORY docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs)
 

@@ -14,7 +14,10 @@ struct BenchCommand {
   std::vector<std::string> backends;
   std::string executable;
   int jobs = 2;
-  int threads = 0;  // threads of each scene run; 0: every hardware thread (sweeps: shared by jobs)
+  int threads = 0;
+  bool scaling = true;    // the scaling table (scaling.csv, scaling.md, scaling.png)
+  int scaling_max = 256;  // its largest sheet, rings a side  // threads of each scene run; 0: every
+                          // hardware thread (sweeps: shared by jobs)
   bool render = true;
   bool progress = true;
 };

@@ -3,11 +3,15 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
 
 #include "bench/harness/bench_suite.hpp"
 #include "bench/harness/budget.hpp"
 #include "bench/harness/commands.hpp"
 #include "bench/harness/process.hpp"
+#include "bench/harness/scaling.hpp"
 #include "bench/harness/scene_file.hpp"
 #include "bench/harness/sweep.hpp"
 
@@ -21,6 +25,47 @@ int count_lines(const fs::path& path) {
   int lines = 0;
   for (std::string line; std::getline(in, line);) lines += !line.empty();
   return lines;
+}
+
+TEST(Scaling, PlanCoversTheSizesUpToTheLargestAsked) {
+  EXPECT_EQ(scaling_plan(false, 256).sides, (std::vector<int>{16, 32, 64, 128, 256}));
+  EXPECT_EQ(scaling_plan(false, 64).sides, (std::vector<int>{16, 32, 64}));
+  EXPECT_EQ(scaling_plan(false, 256).threads, (std::vector<int>{1, 2}));
+  EXPECT_LT(scaling_plan(true, 256).duration, scaling_plan(false, 256).duration);
+}
+
+TEST(Scaling, TableHasEverySizeOnEachThreadCountWithOneHashPerSize) {
+  // the quick plan through the real runs: a row per size and thread count for plausible, the
+  // same final hash on 1 and 2 threads, costs that are positive, and the speed-up column filled
+  // for the 2-thread rows only
+  const fs::path out = fs::temp_directory_path() / "chainmail_test_scaling";
+  fs::remove_all(out);
+  fs::create_directories(out);
+  const std::string table =
+      run_scaling(scaling_plan(true, 256), CHAINMAIL_SOURCE_DIR "/bench/scenes", {"plausible"},
+                  out.string(), false);
+  EXPECT_NE(table.find("| plausible | 8 × 8 | 2 |"), std::string::npos) << table;
+  std::ifstream csv(out / "scaling.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("backend,side,rings,threads,runs,steps,dt,ms_per_step", 0), 0u);
+  std::map<std::string, std::set<std::string>> hashes;  // side -> hashes over thread counts
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    ASSERT_EQ(cells.size(), 15u) << line;
+    ++rows;
+    EXPECT_EQ(cells[0], "plausible");
+    EXPECT_GT(std::stod(cells[7]), 0.0);            // ms_per_step
+    EXPECT_EQ(cells[10].empty(), cells[3] == "1");  // speed-up on more threads only
+    EXPECT_EQ(cells[14], "true");
+    hashes[cells[1]].insert(cells[13]);
+  }
+  EXPECT_EQ(rows, 4);
+  for (const auto& [side, found] : hashes) EXPECT_EQ(found.size(), 1u) << side;
+  fs::remove_all(out);
 }
 
 TEST(BenchPlan, EveryStepLoadsAndQuickModeIsSmallerAndShorter) {

@@ -930,6 +930,10 @@ def flag_cases(cases):
         add(f"flag.run.threads-{variant}", RUN + ["--threads", value], ("--threads",))
         add(f"flag.sweep.threads-{variant}",
             sweep + ["--backends", "plausible", "--threads", value], ("--threads",))
+    for variant, value in [("zero", "0"), ("above", "257"), ("text", "abc")]:
+        add(f"flag.bench.scaling-max-{variant}", ["bench", "--quick", "--no-render", "--backends",
+                                                   "plausible", "--scaling-max", value],
+            ("--scaling-max",))
     add("flag.stability.threads-zero",
         ["stability", "--quick", "--backends", "plausible", "--threads", "0"], ("--threads",))
     add("flag.bench.threads-zero", ["bench", "--quick", "--no-render", "--backends", "plausible",

@@ -1,0 +1,181 @@
+#include "bench/harness/scaling.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include "backends/backend.hpp"
+#include "bench/harness/interrupt.hpp"
+#include "bench/harness/output.hpp"
+#include "bench/harness/process.hpp"
+#include "bench/harness/run.hpp"
+#include "bench/harness/scene_file.hpp"
+#include "bench/harness/verdict.hpp"
+
+namespace chainmail {
+namespace {
+
+// one cell of the table: a backend at a size on some threads
+struct ScalingCell {
+  std::string backend;
+  int side = 0, rings = 0, threads = 1, runs = 0;
+  long long steps = 0;
+  double ms_per_step = 0.0;  // median over the runs
+  double dt = 0.0;           // s
+  double max_stretch = 0.0;  // largest over the run (peak_stretch)
+  std::string verdict;
+  std::uint64_t hash = 0;
+  bool hashes_agree = true;  // every run of this cell ended on the same hash
+};
+
+Scene curtain_at(const ScalingPlan& plan, const std::string& scenes, int side) {
+  const std::string d = csv_number(plan.duration);
+  return load_scene_file(scenes + "/curtain.json", {"weave.rows=" + std::to_string(side),
+                                                    "weave.cols=" + std::to_string(side),
+                                                    "duration=" + d, "sample_interval=" + d});
+}
+
+ScalingCell measure(const Scene& scene, const std::string& backend, int threads, int repeats) {
+  ScalingCell cell;
+  cell.backend = backend;
+  cell.side = scene.weave.cols;
+  cell.rings = scene.weave.rows * scene.weave.cols;
+  cell.threads = threads;
+  std::vector<double> ms;
+  for (int k = 0; k < repeats && !interrupted(); ++k) {
+    RunOptions options;
+    options.backends = {backend};
+    options.progress = false;
+    options.reference = kNoReference;
+    options.threads = threads;
+    const SceneRun run = run_scene(scene, options);
+    const BackendRun& b = run.runs.at(0);
+    if (b.steps == 0) break;
+    ms.push_back(1e3 * b.wall_s / static_cast<double>(b.steps));
+    cell.hashes_agree = cell.hashes_agree && (k == 0 || b.hash == cell.hash);
+    cell.hash = b.hash;
+    cell.steps = b.steps;
+    cell.dt = b.dt;
+    cell.max_stretch = std::max(cell.max_stretch, b.peak_stretch);
+    cell.verdict = to_string(b.verdict);
+  }
+  cell.runs = static_cast<int>(ms.size());
+  if (!ms.empty()) {
+    std::sort(ms.begin(), ms.end());
+    cell.ms_per_step = ms[ms.size() / 2];
+  }
+  return cell;
+}
+
+// wall seconds a run of `info` is estimated to take (the registry's rough cost)
+double estimated_seconds(const BackendInfo& info, const Scene& scene, double dt) {
+  const double steps = scene.duration / dt;
+  return 1e-6 * info.cost_us_per_ring_step * scene.weave.rows * scene.weave.cols * steps;
+}
+
+std::string hex(std::uint64_t value) {
+  char text[20];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(value));
+  return text;
+}
+
+void write_csv(const std::vector<ScalingCell>& cells, const std::string& path) {
+  std::ostringstream csv;
+  csv << "backend,side,rings,threads,runs,steps,dt,ms_per_step,us_per_ring_step,"
+         "realtime_factor,speedup,max_stretch,verdict,hash,hashes_agree\n";
+  for (const ScalingCell& c : cells) {
+    // the speed-up over the same backend and size on one thread
+    std::string speedup;
+    for (const ScalingCell& one : cells) {
+      if (one.backend == c.backend && one.side == c.side && one.threads == 1 && c.threads > 1 &&
+          c.ms_per_step > 0.0)
+        speedup = csv_number(one.ms_per_step / c.ms_per_step);
+    }
+    csv << c.backend << ',' << c.side << ',' << c.rings << ',' << c.threads << ',' << c.runs << ','
+        << c.steps << ',' << csv_number(c.dt) << ',' << csv_number(c.ms_per_step) << ','
+        << csv_number(1e3 * c.ms_per_step / c.rings) << ','
+        << csv_number(c.ms_per_step > 0.0 ? 1e3 * c.dt / c.ms_per_step : 0.0) << ',' << speedup
+        << ',' << csv_number(c.max_stretch) << ',' << c.verdict << ',' << hex(c.hash) << ','
+        << (c.hashes_agree ? "true" : "false") << '\n';
+  }
+  write_file_atomic(path, csv.str());
+}
+
+std::string markdown(const std::vector<ScalingCell>& cells, const ScalingPlan& plan) {
+  std::ostringstream md;
+  char line[320];
+  std::snprintf(line, sizeof line,
+                "The curtain (4-in-1, hung from its top edge, self-contact on, each "
+                "backend's default dt) for %.2g s at each size; ms per step counts `step()` only, "
+                "the median of %d runs for plausible. Same hash: every run of plausible at that "
+                "size, on any thread count, ended on the same final-state hash.\n\n",
+                plan.duration, plan.repeats);
+  md << line
+     << "| backend | rings | threads | ms/step | µs per ring-step | real-time factor | speed-up "
+        "| max_stretch | same hash |\n|---|---|---|---|---|---|---|---|---|\n";
+  for (const ScalingCell& c : cells) {
+    double one = 0.0;
+    for (const ScalingCell& o : cells)
+      if (o.backend == c.backend && o.side == c.side && o.threads == 1) one = o.ms_per_step;
+    bool same = c.hashes_agree;
+    for (const ScalingCell& o : cells)
+      if (o.backend == c.backend && o.side == c.side) same = same && o.hash == c.hash;
+    char speedup[32] = "";
+    if (c.threads > 1 && c.ms_per_step > 0.0)
+      std::snprintf(speedup, sizeof speedup, "%.2f×", one / c.ms_per_step);
+    std::snprintf(
+        line, sizeof line, "| %s | %d × %d | %d | %.3f | %.3f | %.3g | %s | %.4f | %s |\n",
+        c.backend.c_str(), c.side, c.side, c.threads, c.ms_per_step, 1e3 * c.ms_per_step / c.rings,
+        1e3 * c.dt / std::max(c.ms_per_step, 1e-12), speedup, c.max_stretch, same ? "yes" : "no");
+    md << line;
+  }
+  md << "\n`scaling.csv` holds the same cells; `scaling.png` plots ms per step against rings "
+        "(log-log) with the O(n) line through plausible's 32 × 32 point.\n";
+  return md.str();
+}
+
+}  // namespace
+
+ScalingPlan scaling_plan(bool quick, int max_side) {
+  ScalingPlan plan;
+  plan.threads = {1, 2};
+  if (quick) {
+    plan.sides = {4, 8};
+    plan.duration = 0.02;
+    plan.repeats = 1;
+    plan.budget_s = 5.0;
+  } else {
+    plan.sides = {16, 32, 64, 128, 256};
+  }
+  std::erase_if(plan.sides, [&](int side) { return side > max_side; });
+  return plan;
+}
+
+std::string run_scaling(const ScalingPlan& plan, const std::string& scenes,
+                        const std::vector<std::string>& backends, const std::string& out,
+                        bool progress) {
+  std::vector<ScalingCell> cells;
+  for (int side : plan.sides) {
+    if (interrupted()) break;
+    const Scene scene = curtain_at(plan, scenes, side);
+    for (const std::string& name : select_backends(scene, backends)) {
+      const BackendInfo& info = *find_backend(name);
+      const bool plausible = name == "plausible";
+      const double dt = resolve_knobs(scene, info).at("dt");
+      if (!plausible && estimated_seconds(info, scene, dt) > plan.budget_s) continue;
+      for (int threads : plausible ? plan.threads : std::vector<int>{1}) {
+        if (interrupted()) break;
+        if (progress)
+          std::fprintf(stderr, "bench: scaling %s %d x %d on %d thread%s\n", name.c_str(), side,
+                       side, threads, threads == 1 ? "" : "s");
+        cells.push_back(measure(scene, name, threads, plausible ? plan.repeats : 1));
+      }
+    }
+  }
+  write_csv(cells, out + "/scaling.csv");
+  make_plot("plot_scaling.py", {out + "/scaling.csv", out + "/scaling.png"});
+  return markdown(cells, plan);
+}
+
+}  // namespace chainmail
