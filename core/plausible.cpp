@@ -192,7 +192,7 @@ void PlausibleSim::refresh_contact_candidates() {
     if (farthest2 <= limit2) return;
   }
   const double radius = model_.repulsion_range + skin;
-  hash_.build(state_.position, radius);
+  hash_.build(state_.position, radius, 0, threads_);
   // the pair walk in one part per thread, each into its own list, joined in order: the same list
   // for any thread count
   const int walk = hash_.pair_walk_size(state_.position);

@@ -1,23 +1,37 @@
 #include "core/spatial_hash.hpp"
 
+#include "core/parallel.hpp"
+
 #include <algorithm>
 #include <array>
 
 namespace chainmail {
 
-void SpatialHash::build(const Positions& points, double cell_size, int table_size) {
+void SpatialHash::build(const Positions& points, double cell_size, int table_size, int threads) {
   const int n = static_cast<int>(points.cols());
   inv_cell_ = 1.0 / cell_size;
 
   // cell coordinates of every finite point, and their extent
-  std::vector<int> finite;
+  // (the scratch arrays keep their memory from build to build: a sheet rebuilds its candidate
+  // list every few substeps, and fresh pages cost more than the sort)
+  std::vector<int>& finite = scratch_.finite;
+  finite.clear();
   finite.reserve(n);
-  std::vector<std::array<std::int64_t, 3>> cell(n);
-  std::int64_t lo[3] = {0, 0, 0}, hi[3] = {-1, -1, -1};
+  std::vector<std::array<std::int64_t, 3>>& cell = scratch_.cell;
+  cell.resize(n);
+  // the cells per point on the threads (independent), the box and the finite list after
+  constexpr std::int64_t kNone = -(std::int64_t{1} << 62);  // not in the grid
+  const int team = loop_threads(threads, n, 4096);
+#pragma omp parallel for schedule(static) num_threads(team)
   for (int i = 0; i < n; ++i) {
     const Vec3 p = points.col(i);
-    if (!in_grid(p)) continue;
-    cell[i] = {cell_of(p.x()), cell_of(p.y()), cell_of(p.z())};
+    cell[i] = in_grid(p)
+                  ? std::array<std::int64_t, 3>{cell_of(p.x()), cell_of(p.y()), cell_of(p.z())}
+                  : std::array<std::int64_t, 3>{kNone, 0, 0};
+  }
+  std::int64_t lo[3] = {0, 0, 0}, hi[3] = {-1, -1, -1};
+  for (int i = 0; i < n; ++i) {
+    if (cell[i][0] == kNone) continue;
     for (int a = 0; a < 3; ++a) {
       lo[a] = finite.empty() ? cell[i][a] : std::min(lo[a], cell[i][a]);
       hi[a] = finite.empty() ? cell[i][a] : std::max(hi[a], cell[i][a]);
@@ -36,11 +50,16 @@ void SpatialHash::build(const Positions& points, double cell_size, int table_siz
       !finite.empty() && cells <= std::max<std::int64_t>(32 * static_cast<std::int64_t>(n), 4096);
 
   std::int64_t table = 0;
-  std::vector<std::uint64_t> key_of(n);
-  std::vector<int> bucket_of(n);
+  std::vector<std::uint64_t>& key_of = scratch_.key;
+  std::vector<int>& bucket_of = scratch_.bucket;
+  key_of.resize(n);
+  bucket_of.resize(n);
+  const int count = static_cast<int>(finite.size());
   if (dense_) {
     table = cells;
-    for (int i : finite) {
+#pragma omp parallel for schedule(static) num_threads(team)
+    for (int k = 0; k < count; ++k) {
+      const int i = finite[k];
       key_of[i] = static_cast<std::uint64_t>(
           dense_index(cell[i][0] - lo[0], cell[i][1] - lo[1], cell[i][2] - lo[2]));
       bucket_of[i] = static_cast<int>(key_of[i]);
@@ -49,7 +68,9 @@ void SpatialHash::build(const Positions& points, double cell_size, int table_siz
     table = 64;
     while (table < (table_size > 0 ? table_size : 2 * n)) table *= 2;
     mask_ = static_cast<std::uint64_t>(table - 1);
-    for (int i : finite) {
+#pragma omp parallel for schedule(static) num_threads(team)
+    for (int k = 0; k < count; ++k) {
+      const int i = finite[k];
       key_of[i] = pack_cell(cell[i][0], cell[i][1], cell[i][2]);
       bucket_of[i] = bucket_of_key(key_of[i]);
     }
@@ -59,8 +80,8 @@ void SpatialHash::build(const Positions& points, double cell_size, int table_siz
   bucket_start_.assign(static_cast<size_t>(table) + 1, 0);
   for (int i : finite) ++bucket_start_[bucket_of[i] + 1];
   for (std::int64_t b = 0; b < table; ++b) bucket_start_[b + 1] += bucket_start_[b];
-  std::vector<int> fill(bucket_start_.begin(), bucket_start_.end() - 1);
-  const int count = static_cast<int>(finite.size());
+  std::vector<int>& fill = scratch_.fill;
+  fill.assign(bucket_start_.begin(), bucket_start_.end() - 1);
   sorted_.resize(count);
   sorted_key_.resize(count);
   sorted_position_.resize(3, count);

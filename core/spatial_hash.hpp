@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -43,7 +44,8 @@ class SpatialHash {
  public:
   // cell_size should be at least the query radius; the hashed table has a power-of-two size of
   // at least table_size buckets (0: twice the point count), and never fewer than 64
-  void build(const Positions& points, double cell_size, int table_size = 0);
+  // (threads: for the per-point loops; the result is the same for any count)
+  void build(const Positions& points, double cell_size, int table_size = 0, int threads = 1);
 
   // calls visit(j) for every point j > i within `radius` of point i (radius <= cell size), so
   // that calling it for every i meets each pair once
@@ -98,6 +100,13 @@ class SpatialHash {
   std::vector<int> sorted_;                // (finite points) point indices grouped by cell/bucket
   std::vector<std::uint64_t> sorted_key_;  // (finite points) packed cell (hashed) or cell index
   Positions sorted_position_;              // (3, finite points) m, positions in sorted order
+  struct Scratch {
+    std::vector<int> finite;                        // (finite points) point indices
+    std::vector<std::array<std::int64_t, 3>> cell;  // (n) cell coordinates
+    std::vector<std::uint64_t> key;                 // (n) packed cell or cell index
+    std::vector<int> bucket;                        // (n)
+    std::vector<int> fill;                          // (buckets) next free slot
+  } scratch_;                                       // build()'s working memory, reused
 };
 
 template <class Visit>
