@@ -82,7 +82,10 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
     model_.pin_paths = pin_paths(weave, pinned);
   }
   if (settings.pin_attachments && !pinned.empty()) {
-    model_.attachments = pin_attachments(weave, pin_paths(weave, pinned), pinned, max_length);
+    // the breadth-first paths once: the swivel hinge's when it has them
+    const PinPaths paths =
+        model_.pin_paths.order.empty() ? pin_paths(weave, pinned) : model_.pin_paths;
+    model_.attachments = pin_attachments(weave, paths, pinned, max_length);
   }
   model_.rigid = rigid_freedom(weave.rest_position, view(model_.inverse_mass));
   model_.colliders = scene.colliders;
