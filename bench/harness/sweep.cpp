@@ -257,6 +257,27 @@ int write_sweep_csv(const std::vector<SweepAxis>& axes, const std::vector<SweepP
 
 namespace {
 
+// every point is measured against one reference run, made with the reference backend's knobs as
+// the scene gives them. A point that varies one of those knobs (other than dt, which the reference
+// run sets itself) would make its own reference run with the same knob: it would be measured
+// against itself, an error of 0 that means nothing
+void refuse_varied_reference(const Scene& base, const std::vector<SweepPoint>& points) {
+  const std::string prefix = "backends." + base.reference + ".";
+  for (const SweepPoint& point : points) {
+    if (point.backend != base.reference) continue;
+    for (const std::string& set : point.sets) {
+      const std::string key = set.substr(0, set.find('='));
+      if (key.rfind(prefix, 0) != 0 || key == prefix + "dt") continue;
+      throw UsageError("--vary " + key + ": " + base.reference +
+                       " is the scene's reference, and each point would be measured against a "
+                       "reference run with its own " +
+                       key.substr(prefix.size()) +
+                       " (an error of 0); vary dt only, or name another reference "
+                       "(--set reference=NAME)");
+    }
+  }
+}
+
 // the grid, the shared job settings and the folder; every point checked before anything runs
 SweepPlan plan_sweep(const SweepCommand& command) {
   SweepPlan plan;
@@ -266,6 +287,7 @@ SweepPlan plan_sweep(const SweepCommand& command) {
   plan.axes = parse_vary(command.vary);
   plan.points = sweep_grid(plan.axes, names);
   const std::vector<double> dts = check_points(command, plan.points);
+  refuse_varied_reference(plan.base, plan.points);
   plan.out = command.out_dir.empty() ? "results/" + plan.base.name + "/sweep" : command.out_dir;
   plan.jobs.executable = command.executable.empty() ? "chainmail" : command.executable;
   plan.jobs.scene_file = command.scene_file;

@@ -122,12 +122,37 @@ TEST(Sweep, PrintJobsOneLinePerPointAgainstOneReference) {
   EXPECT_THROW(sweep_command(sweep), SceneError);
 }
 
+TEST(Sweep, RefusesToVaryTheReferenceBackendsOwnKnobs) {
+  // every point against one reference run: a point that changed the reference backend's
+  // iterations would make a reference run with them too and measure an error of 0 against itself
+  SweepCommand sweep;
+  sweep.scene_file = CHAINMAIL_SOURCE_DIR "/bench/scenes/curtain.json";
+  sweep.overrides = {"reference=plausible"};
+  sweep.vary = {"backends.plausible.iterations=2,8"};
+  sweep.backends = {"plausible", "massspring"};
+  sweep.print_jobs = true;
+  try {
+    sweep_command(sweep);
+    ADD_FAILURE() << "no UsageError";
+  } catch (const UsageError& e) {
+    EXPECT_NE(std::string(e.what()).find("--vary backends.plausible.iterations: plausible is the "
+                                         "scene's reference"),
+              std::string::npos)
+        << e.what();
+  }
+  // its dt is fine (the reference run sets its own), and so are other backends' knobs
+  sweep.vary = {"backends.{backend}.dt=0.004,0.002", "backends.massspring.substeps=10,20"};
+  testing::internal::CaptureStdout();
+  EXPECT_EQ(sweep_command(sweep), kExitOk);
+  EXPECT_EQ(lines_of(testing::internal::GetCapturedStdout()).size(), 1u + 2u + 4u);
+}
+
 TEST(Sweep, OneRowPerPointAndThePlot) {
   const fs::path out = fs::temp_directory_path() / "chainmail_test_sweep";
   fs::remove_all(out);
   SweepCommand sweep;
   sweep.scene_file = CHAINMAIL_SOURCE_DIR "/bench/scenes/curtain.json";
-  sweep.overrides = {"weave.rows=4", "weave.cols=4", "duration=0.04", "reference=plausible"};
+  sweep.overrides = {"weave.rows=4", "weave.cols=4", "duration=0.04", "reference=massspring"};
   sweep.vary = {"backends.{backend}.dt=0.004,0.002", "backends.{backend}.iterations=2,8"};
   sweep.backends = {"plausible"};
   sweep.out_dir = out.string();
