@@ -23,27 +23,30 @@ struct Colouring {
 template <class Pair>
 Colouring colour_pairs(std::vector<Pair>& pairs, int ring_count) {
   constexpr int kColours = 64;
-  std::vector<std::uint64_t> used(ring_count, 0);  // (n) bit c set: ring has a pair of colour c
-  std::vector<std::pair<int, Pair>> coloured;
-  coloured.reserve(pairs.size());
+  std::vector<std::uint64_t> used(ring_count, 0);     // (n) bit c set: ring has a pair of colour c
+  std::vector<std::uint8_t> colour_of(pairs.size());  // (pairs) colour of each pair
+  std::vector<int> start(kColours + 1, 0);            // (colours + 1) pairs before each colour
   bool overflow = false;
-  for (const Pair& pair : pairs) {
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    const Pair& pair = pairs[k];
     const std::uint64_t taken = used[pair.a] | used[pair.b];
     int colour = 0;
     while (colour < kColours - 1 && (taken >> colour & 1u)) ++colour;
     if (colour == kColours - 1) overflow = true;
     used[pair.a] |= std::uint64_t{1} << colour;
     used[pair.b] |= std::uint64_t{1} << colour;
-    coloured.push_back({colour, pair});
+    colour_of[k] = static_cast<std::uint8_t>(colour);
+    ++start[colour + 1];
   }
-  std::stable_sort(coloured.begin(), coloured.end(),
-                   [](const auto& x, const auto& y) { return x.first < y.first; });
+  // counting sort by colour: stable, linear in the pairs (a sheet recolours every rebuild)
+  for (int c = 0; c < kColours; ++c) start[c + 1] += start[c];
+  std::vector<Pair> sorted(pairs.size());
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (size_t k = 0; k < pairs.size(); ++k) sorted[fill[colour_of[k]]++] = pairs[k];
+  pairs.swap(sorted);
   Colouring colouring;
-  for (size_t k = 0; k < coloured.size(); ++k) {
-    pairs[k] = coloured[k].second;
-    if (k + 1 == coloured.size() || coloured[k + 1].first != coloured[k].first) {
-      colouring.start.push_back(static_cast<int>(k + 1));
-    }
+  for (int c = 0; c < kColours; ++c) {
+    if (start[c + 1] > start[c]) colouring.start.push_back(start[c + 1]);
   }
   colouring.serial_tail = overflow;
   return colouring;

@@ -10,15 +10,17 @@ namespace chainmail {
 
 // Provot edge constraint: keep |p1 - p0| within [min_length, max_length].
 // The correction is shared by inverse mass; pinned ends (w = 0) do not move.
-// Returns false when the edge already satisfies the bounds (corrections untouched).
-inline bool solve_edge_constraint(const Vec3& p0, double w0, const Vec3& p1, double w1,
-                                  double min_length, double max_length, Vec3& corr0, Vec3& corr1) {
+// Returns the violation |length - bound| (m), 0 when the edge already satisfies the bounds
+// (corrections untouched): the sweeps' residual without a second square root.
+inline double solve_edge_constraint(const Vec3& p0, double w0, const Vec3& p1, double w1,
+                                    double min_length, double max_length, Vec3& corr0,
+                                    Vec3& corr1) {
   const Vec3 d = p1 - p0;
   const double length2 = d.squaredNorm();
   // most edges are within bounds: decide on squared lengths, no square root
-  if (length2 <= max_length * max_length && length2 >= min_length * min_length) return false;
+  if (length2 <= max_length * max_length && length2 >= min_length * min_length) return 0.0;
   const double w = w0 + w1;
-  if (w == 0.0 || length2 < 1e-30) return false;
+  if (w == 0.0 || length2 < 1e-30) return 0.0;
   const double length = std::sqrt(length2);
   // decided on the squares, as above: an edge a rounding above its maximum can have a square root
   // equal to it, and compared there would be pulled in to its minimum
@@ -27,19 +29,19 @@ inline bool solve_edge_constraint(const Vec3& p0, double w0, const Vec3& p1, dou
   const double scale = (length - target) / (length * w);  // > 0 stretched, < 0 compressed
   corr0 = (w0 * scale) * d;
   corr1 = -(w1 * scale) * d;
-  return true;
+  return std::abs(length - target);
 }
 
 // long-range attachment: keep p within max_distance of a fixed anchor (a pin); only p moves.
-// Returns false when it already is (correction untouched).
-inline bool solve_attachment_constraint(const Vec3& p, const Vec3& anchor, double max_distance,
-                                        Vec3& corr) {
+// Returns the violation length - max_distance (m), 0 when it already is (correction untouched).
+inline double solve_attachment_constraint(const Vec3& p, const Vec3& anchor, double max_distance,
+                                          Vec3& corr) {
   const Vec3 d = p - anchor;
   const double length2 = d.squaredNorm();
-  if (length2 <= max_distance * max_distance) return false;
+  if (length2 <= max_distance * max_distance) return 0.0;
   const double length = std::sqrt(length2);
   corr = ((max_distance - length) / length) * d;
-  return true;
+  return length - max_distance;
 }
 
 // linear repulsion between two non-neighbour rings closer than `range`: a spring of stiffness k

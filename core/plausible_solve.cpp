@@ -166,13 +166,12 @@ double PlausibleSim::solve_edges(const std::vector<EdgeConstraint>& edges,
   return sweep_colours(colours, threads_, [&](int k) {
     const EdgeConstraint& e = edges[k];
     Vec3 corr0, corr1;
-    if (!solve_edge_constraint(p.col(e.a), w[e.a], p.col(e.b), w[e.b], e.min_length, e.max_length,
-                               corr0, corr1)) {
-      return 0.0;
-    }
+    const double violation = solve_edge_constraint(p.col(e.a), w[e.a], p.col(e.b), w[e.b],
+                                                   e.min_length, e.max_length, corr0, corr1);
+    if (violation == 0.0) return 0.0;
     p.col(e.a) += corr0;
     p.col(e.b) += corr1;
-    return (corr1 - corr0).norm();
+    return violation;
   });
 }
 
@@ -188,9 +187,11 @@ double PlausibleSim::solve_attachments() {
     for (int k = 0; k < count; ++k) {
       const PinAttachment& a = list[k];
       Vec3 corr;
-      if (solve_attachment_constraint(p.col(a.ring), p.col(a.pin), a.max_distance, corr)) {
+      const double violation =
+          solve_attachment_constraint(p.col(a.ring), p.col(a.pin), a.max_distance, corr);
+      if (violation > 0.0) {
         p.col(a.ring) += corr;
-        worst = std::max(worst, corr.norm());
+        worst = std::max(worst, violation);
       }
     }
   }
@@ -215,7 +216,7 @@ void PlausibleSim::propagate_from_pins() {
         for (size_t k = first; k < last; ++k) {
           Vec3 corr0, corr1;
           if (solve_edge_constraint(p.col(edges[k].a), 0.0, p.col(ring), 1.0, edges[k].min_length,
-                                    edges[k].max_length, corr0, corr1)) {
+                                    edges[k].max_length, corr0, corr1) > 0.0) {
             sum += corr1;
             ++count;
           }
