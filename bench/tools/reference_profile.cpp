@@ -111,10 +111,14 @@ int main(int argc, char** argv) {
   for (int k = 2; k < argc; k += 2) {
     if (k + 1 >= argc) return usage();
     const std::string flag = argv[k], value = argv[k + 1];
-    if (flag == "--duration") duration = value;
-    else if (flag == "--backends") backends = split(value);
-    else if (flag == "--scenes") scenes = split(value);
-    else return usage();
+    if (flag == "--duration")
+      duration = value;
+    else if (flag == "--backends")
+      backends = split(value);
+    else if (flag == "--scenes")
+      scenes = split(value);
+    else
+      return usage();
   }
   for (const auto& b : backends) {
     if (b != "bullet" && b != "ode") return usage();
@@ -125,9 +129,10 @@ int main(int argc, char** argv) {
     }
   }
   try {
-    std::printf("scene,rings,backend,change,dt_s,ms_per_step,wall_per_sim_s,speedup,"
-                "drape_rms_final_mm,drape_rms_max_mm,surface_error_over_a,max_stretch,"
-                "broken_links,verdict\n");
+    std::printf(
+        "scene,rings,backend,change,dt_s,ms_per_step,wall_per_sim_s,speedup,"
+        "drape_rms_final_mm,drape_rms_max_mm,surface_error_over_a,max_stretch,"
+        "broken_links,verdict\n");
     for (const auto& name : scenes) {
       // the bench's overrides of that scene (its size, duration, colliders)
       const auto& plan = bench_plan().scenes;
