@@ -20,6 +20,9 @@ const KnobTable<TorusXpbdSettings>& torus_xpbd_knobs() {
     t.number("damping", &S::damping, 0.0, 1e4, "linear and angular velocity drag, 1/s");
     t.boolean("sleeping", &S::sleeping,
               "rings at rest are not integrated until a contact moves them");
+    t.boolean("friction_pyramid", &S::friction_pyramid,
+              "friction on two tangent axes, each up to the Coulomb bound, as Bullet and ODE "
+              "solve it (false: Coulomb's cone)");
     return t;
   }();
   return table;

@@ -42,6 +42,10 @@ struct TorusXpbdSettings {
   double compliance = 0.0;   // m/N, contact compliance (0: rigid)
   double damping = 0.0;      // 1/s, linear and angular velocity drag
   bool sleeping = false;     // rings at rest are not integrated until a contact moves them
+  // friction on two tangent axes, each up to friction times the normal force (the pyramid Bullet's
+  // two friction directions and ODE's dContactApprox1 solve: up to sqrt 2 times more on the
+  // diagonals), instead of Coulomb's cone
+  bool friction_pyramid = false;
 };
 
 // fixed model: built once from the scene
@@ -154,6 +158,11 @@ class TorusXpbdSim {
                      double friction, double h);
   void merge_contacts(std::size_t first, double h);
   void hold_collider_friction(double h);
+  // the static-friction correction (kg m, on a; b = -1: a collider) that undoes the contact point's
+  // tangential `slip` (m) where that takes less than `limit` (friction times the normal
+  // multiplier): along the slip (the cone) or on each tangent axis (the pyramid); `held` when any
+  Vec3 static_friction(int a, const Vec3& arm_a, int b, const Vec3& arm_b, const Vec3& normal,
+                       const Vec3& slip, double limit, double stiffness_term, bool& held) const;
   void velocity_pass(double h);
   // rigid-body helpers
   Vec3 inverse_inertia_times(int ring, const Vec3& v) const;

@@ -35,6 +35,19 @@ double angle_cos(const PairSeed& seed, double c, double s) {
   return seed.cos_t * c + seed.sin_t * s;
 }
 
+// two unit tangents of the plane normal to unit n, fixed by n alone (as ODE's dPlaneSpace): the
+// pyramid's friction axes
+void tangent_axes(const Vec3& n, Vec3& t1, Vec3& t2) {
+  if (std::abs(n.z()) > std::numbers::sqrt2 / 2.0) {
+    const double k = 1.0 / std::sqrt(n.y() * n.y() + n.z() * n.z());
+    t1 = Vec3(0.0, -n.z() * k, n.y() * k);
+  } else {
+    const double k = 1.0 / std::sqrt(n.x() * n.x() + n.y() * n.y());
+    t1 = Vec3(-n.y() * k, n.x() * k, 0.0);
+  }
+  t2 = n.cross(t1);
+}
+
 }  // namespace
 
 void TorusXpbdSim::solve_pairs(std::vector<RingPairContact>& pairs, double h, bool scan) {
@@ -253,14 +266,8 @@ void TorusXpbdSim::apply_contact(int a, int b, const Vec3& normal, const Vec3& p
               previous_rotation_[b] * (rotation_[b].transpose() * arm_b);
     }
     slip -= slip.dot(normal) * normal;
-    const double length = slip.norm();
-    if (length > 0.0) {
-      const Vec3 tangent = slip / length;
-      const double wt = generalized_inverse_mass(a, arm_a, tangent) +
-                        (ring_b ? generalized_inverse_mass(b, arm_b, tangent) : 0.0);
-      const double lambda_t = length / (wt + stiffness_term);
-      if (wt > 0.0 && lambda_t < friction * lambda) correction -= lambda_t * tangent, stuck = true;
-    }
+    correction +=
+        static_friction(a, arm_a, b, arm_b, normal, slip, friction * lambda, stiffness_term, stuck);
   }
   // the approach speed at the substep's start, before gravity's pull in it (against a collider;
   // between rings it cancels): a bounce returns no more than the speed the contact met
@@ -278,6 +285,28 @@ void TorusXpbdSim::apply_contact(int a, int b, const Vec3& normal, const Vec3& p
   if (ring_b) apply_correction(b, arm_b, -correction);
 }
 
+Vec3 TorusXpbdSim::static_friction(int a, const Vec3& arm_a, int b, const Vec3& arm_b,
+                                   const Vec3& normal, const Vec3& slip, double limit,
+                                   double stiffness_term, bool& held) const {
+  // the multiplier that undoes the slip along one unit tangent, and whether friction can give it
+  const auto undo = [&](const Vec3& tangent, double along) -> Vec3 {
+    const double wt = generalized_inverse_mass(a, arm_a, tangent) +
+                      (b >= 0 ? generalized_inverse_mass(b, arm_b, tangent) : 0.0);
+    if (wt <= 0.0) return Vec3::Zero();
+    const double lambda_t = std::abs(along) / (wt + stiffness_term);
+    if (lambda_t >= limit) return Vec3::Zero();
+    held = true;
+    return -std::copysign(lambda_t, along) * tangent;
+  };
+  if (model_.settings.friction_pyramid) {
+    Vec3 t1, t2;
+    tangent_axes(normal, t1, t2);
+    return undo(t1, slip.dot(t1)) + undo(t2, slip.dot(t2));
+  }
+  const double length = slip.norm();
+  return length > 0.0 ? undo(slip / length, length) : Vec3::Zero();
+}
+
 // static friction against the colliders once more, after the rings' contacts have moved the rings:
 // each held contact point's slip over the substep is undone again where friction can (otherwise
 // the rings' pull drags a sheet over a table a little every substep)
@@ -290,11 +319,10 @@ void TorusXpbdSim::hold_collider_friction(double h) {
     Vec3 slip = state_.position[i] + arm - state_.previous_position[i] -
                 previous_rotation_[i] * hold.local_arm;
     slip -= slip.dot(hold.normal) * hold.normal;
-    const double length = slip.norm();
-    if (length == 0.0) continue;
-    const Vec3 tangent = slip / length;
-    const double lambda_t = length / (generalized_inverse_mass(i, arm, tangent) + stiffness_term);
-    if (lambda_t < hold.friction * hold.lambda) apply_correction(i, arm, -lambda_t * tangent);
+    bool held = false;
+    const Vec3 correction = static_friction(i, arm, -1, Vec3::Zero(), hold.normal, slip,
+                                            hold.friction * hold.lambda, stiffness_term, held);
+    if (held) apply_correction(i, arm, correction);
   }
 }
 
@@ -314,13 +342,24 @@ void TorusXpbdSim::velocity_pass(double h) {
     const double e = std::abs(normal_speed) <= resting ? 0.0 : model_.settings.restitution;
     Vec3 impulse = ((std::max(-e * contact.approach, 0.0) - normal_speed) / contact.w) * n;
     const Vec3 sliding = relative - normal_speed * n;
-    const double slide = sliding.norm();
-    if (contact.friction > 0.0 && slide > 0.0) {
-      const Vec3 tangent = sliding / slide;
+    // takes from the sliding speed along one unit tangent at most friction times lambda / h
+    const auto slow = [&](const Vec3& tangent, double speed) {
       const double wt =
           generalized_inverse_mass(contact.a, contact.arm_a, tangent) +
           (ring_b ? generalized_inverse_mass(contact.b, contact.arm_b, tangent) : 0.0);
-      impulse -= std::min(contact.friction * contact.lambda / h, slide / wt) * tangent;
+      if (wt <= 0.0) return;
+      impulse -= std::copysign(
+                     std::min(contact.friction * contact.lambda / h, std::abs(speed) / wt), speed) *
+                 tangent;
+    };
+    if (contact.friction > 0.0 && model_.settings.friction_pyramid) {
+      Vec3 t1, t2;
+      tangent_axes(n, t1, t2);
+      slow(t1, sliding.dot(t1));
+      slow(t2, sliding.dot(t2));
+    } else if (contact.friction > 0.0) {
+      const double slide = sliding.norm();
+      if (slide > 0.0) slow(sliding / slide, slide);
     }
     apply_impulse(contact.a, contact.arm_a, impulse);
     if (ring_b) apply_impulse(contact.b, contact.arm_b, -impulse);

@@ -85,6 +85,38 @@ TEST(TorusXpbd, RestsOnEveryColliderTypeWithinTwoHundredthsOfTheWireRadius) {
   }
 }
 
+// a ring lying on a plane (friction mu) under gravity tilted by a tangential pull of 1.2 mu times
+// its weight's normal part: Coulomb's cone lets it slide in any direction, with acceleration
+// (1.2 - 1) mu g; the pyramid of two tangent axes (x and z for this plane, as ODE's dPlaneSpace)
+// slides along an axis alike, but holds on the diagonal, where each axis takes 1.2 / sqrt 2 < 1
+TEST(TorusXpbd, FrictionConeSlidesWhereThePyramidHoldsOnTheDiagonal) {
+  const double mu = 0.5, g = 9.81, pull = 1.2 * mu * g, t = 0.5;
+  const double slide = 0.5 * (pull - mu * g) * t * t;  // m, the cone's slide in t
+  const Quat flat = Quat::Identity();                  // the ring's axis along y
+  for (const bool diagonal : {false, true}) {
+    for (const bool pyramid : {false, true}) {
+      SCOPED_TRACE(std::string(diagonal ? "diagonal" : "along x") +
+                   (pyramid ? " pyramid" : " cone"));
+      json document = one_ring(0.0008);
+      document["colliders"] = {{{"type", "plane"}, {"friction", mu}}};
+      const Vec3 along = diagonal ? Vec3(1, 0, 1).normalized() : Vec3(1, 0, 0);
+      document["gravity"] = {pull * along.x(), -g, pull * along.z()};
+      TorusXpbdSettings settings;
+      settings.friction_pyramid = pyramid;
+      Sim run(document, settings, &flat);
+      const Vec3 start = run.state().position[0];
+      run.advance(t);
+      const Vec3 moved = run.state().position[0] - start;
+      if (pyramid && diagonal) {
+        EXPECT_LT(moved.norm(), 0.01 * slide);  // held (static friction creeps a little)
+      } else {
+        EXPECT_NEAR(moved.dot(along), slide, 0.1 * slide);
+        EXPECT_LT((moved - moved.dot(along) * along).norm(), 1e-3 * slide);
+      }
+    }
+  }
+}
+
 TEST(TorusXpbd, ARingHangsFromAPinnedRingWhereTheWiresHook) {
   // two chain links, the first pinned in the x/y plane: the second slides to the bottom of the
   // first's wire and hangs there (no friction to hold it aside), its centre the inner diameter
