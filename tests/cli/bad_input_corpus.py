@@ -920,6 +920,11 @@ def flag_cases(cases):
     ]:
         add(f"flag.sweep.vary-{variant}",
             ["sweep", "@SCENE@", "--vary", value, "--backends", "plausible"], tok)
+    # the reference backend's own knob: every point would be measured against itself
+    add("flag.sweep.vary-reference-knob",
+        ["sweep", "@SCENE@", "--vary", "backends.plausible.iterations=2,8", "--backends",
+         "plausible", "--set", "reference=plausible"],
+        ("--vary backends.plausible.iterations", "reference"))
     for variant, value in [("zero", "0"), ("minus-1", "-1"), ("text", "abc")]:
         add(f"flag.sweep.jobs-{variant}", sweep + ["--backends", "plausible", "--jobs", value],
             ("--jobs",))
