@@ -172,7 +172,12 @@ OutputFolder OutputFolder::claim(const std::string& path, const std::string& com
   }
   for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
     if (::mkdir(it->c_str(), 0777) != 0) {
-      const std::string why = "cannot create " + it->string() + ": " + std::strerror(errno);
+      const int error = errno;
+      // another process made it since (the points of a sweep on Slurm or GNU parallel start
+      // together and share their parents): there to use, and not ours to remove
+      struct stat info {};
+      if (error == EEXIST && ::stat(it->c_str(), &info) == 0 && S_ISDIR(info.st_mode)) continue;
+      const std::string why = "cannot create " + it->string() + ": " + std::strerror(error);
       refuse(flag, path, why);  // the destructor removes what was created
     }
     folder.created_parents_.push_back(it->string());

@@ -4,9 +4,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "bench/harness/output_folder.hpp"
 #include "core/scene.hpp"
@@ -161,6 +164,30 @@ TEST_F(OutputFolderTest, UncommittedFolderLeavesNothing) {
   }  // an exception or an error: never committed
   EXPECT_FALSE(fs::exists(dir_ / "deep"));
   expect_no_leftovers();
+}
+
+TEST_F(OutputFolderTest, PointsStartedTogetherShareTheParentsTheyCreate) {
+  // the points of a sweep on Slurm start at the same moment, each claiming sweep/points/K under
+  // parents that none of them found: whoever makes a parent first, every point gets its folder
+  for (int round = 0; round < 20; ++round) {
+    fs::remove_all(dir_ / "sweep");
+    constexpr int kPoints = 8;
+    std::vector<std::thread> points;
+    std::atomic<int> refused{0};
+    for (int k = 0; k < kPoints; ++k) {
+      points.emplace_back([&, k] {
+        try {
+          write_run(dir_ / "sweep" / "points" / std::to_string(k));
+        } catch (const SceneError&) {
+          ++refused;
+        }
+      });
+    }
+    for (auto& point : points) point.join();
+    ASSERT_EQ(refused, 0) << "round " << round;
+    for (int k = 0; k < kPoints; ++k)
+      EXPECT_TRUE(fs::exists(dir_ / "sweep" / "points" / std::to_string(k) / "summary.json"));
+  }
 }
 
 TEST_F(OutputFolderTest, AFileAddedWhileRunningIsNotReplaced) {
