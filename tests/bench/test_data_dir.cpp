@@ -16,7 +16,10 @@ namespace fs = std::filesystem;
 class DataDirTest : public testing::Test {
  protected:
   void SetUp() override {
-    root_ = fs::temp_directory_path() / "chainmail_test_data_dir";
+    // a folder of each test's own: ctest runs the tests of this fixture in parallel
+    root_ = fs::temp_directory_path() /
+            ("chainmail_test_data_dir_" +
+             std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(root_);
     fs::create_directories(installed() / "scenes");
     fs::create_directories(source() / "bench" / "scenes");
