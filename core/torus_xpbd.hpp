@@ -160,7 +160,8 @@ class TorusXpbdSim {
   void hold_collider_friction(double h);
   // the static-friction correction (kg m, on a; b = -1: a collider) that undoes the contact point's
   // tangential `slip` (m) where that takes less than `limit` (friction times the normal
-  // multiplier): along the slip (the cone) or on each tangent axis (the pyramid); `held` when any
+  // multiplier): along the slip (the cone) or on each tangent axis (the pyramid); `held` is set
+  // when friction undid any of it
   Vec3 static_friction(int a, const Vec3& arm_a, int b, const Vec3& arm_b, const Vec3& normal,
                        const Vec3& slip, double limit, double stiffness_term, bool& held) const;
   void velocity_pass(double h);

@@ -55,6 +55,7 @@ std::vector<Change> changes_for(const std::string& backend) {
 
 struct Outcome {
   BackendRun run;
+  RingGeometry ring;              // the scene's, for the capsule fit's surface error
   std::vector<RingFrame> frames;  // every sample
 };
 
@@ -69,6 +70,7 @@ Outcome run_once(const std::string& scene_file, const std::vector<std::string>& 
   options.reference = kNoReference;
   options.threads = 1;
   Outcome out;
+  out.ring = scene.ring;
   out.run = run_backend(scene, weave, backend, options,
                         [&](const RingFrame& f, Sample&) { out.frames.push_back(f); });
   return out;
@@ -158,10 +160,9 @@ int main(int argc, char** argv) {
           if (change.sets.empty()) base = out;
           double final_m = 0.0, worst_m = 0.0;
           drape_against(out, base, final_m, worst_m);
-          const Scene scene = load_scene_file(file, sets);
           const int pieces = static_cast<int>(out.run.knobs.at("pieces"));
           const CapsuleTorus fit =
-              capsule_torus(scene.ring.wire_radius, scene.ring.centre_radius, pieces);
+              capsule_torus(out.ring.wire_radius, out.ring.centre_radius, pieces);
           const double base_wall = base.run.wall_s / (base.run.steps * base.run.dt);
           const double wall = out.run.wall_s / (out.run.steps * out.run.dt);
           const Metrics& m = out.run.final_metrics();
@@ -169,7 +170,7 @@ int main(int argc, char** argv) {
                       out.frames.empty() ? 0 : out.frames.back().size(), backend.c_str(),
                       change.label.c_str(), out.run.dt, out.run.ms_per_step(), wall,
                       base_wall / wall, 1e3 * final_m, 1e3 * worst_m,
-                      fit.surface_error / scene.ring.wire_radius, out.run.peak_stretch,
+                      fit.surface_error / out.ring.wire_radius, out.run.peak_stretch,
                       static_cast<int>(m.broken_links), to_string(out.run.verdict));
           std::fflush(stdout);
         }
