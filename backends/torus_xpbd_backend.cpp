@@ -18,6 +18,9 @@ const KnobTable<TorusXpbdSettings>& torus_xpbd_knobs() {
     t.number("restitution", &S::restitution, 0.0, 1.0, "normal restitution of every contact");
     t.number("compliance", &S::compliance, 0.0, 1e3, "contact compliance, m/N (0: rigid)");
     t.number("damping", &S::damping, 0.0, 1e4, "linear and angular velocity drag, 1/s");
+    t.integer("velocity_iterations", &S::velocity_iterations, 1, 1000,
+              "Gauss-Seidel passes of the velocity solve (restitution, dynamic friction) per "
+              "substep");
     t.boolean("sleeping", &S::sleeping,
               "rings at rest are not integrated until a contact moves them");
     t.boolean("friction_pyramid", &S::friction_pyramid,

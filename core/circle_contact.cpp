@@ -11,7 +11,7 @@ namespace {
 // (c, s) turned by about `step` rad (exactly by atan(step)): a Newton step needs no more
 void turn(double& c, double& s, double step) {
   const double nc = c - s * step, ns = s + c * step;
-  const double inv = 1.0 / std::sqrt(nc * nc + ns * ns);
+  const double inv = inverse_norm(nc * nc + ns * ns);
   c = nc * inv, s = ns * inv;
 }
 
@@ -80,8 +80,9 @@ CirclePairDistance::Slope CirclePairDistance::slope(double c, double s) const {
   const double rho = std::sqrt(g);
   Slope out{ww - 2.0 * r1_ * rho + r1_ * r1_, 0.0, 0.0, rho};
   if (rho > 0.0) {
-    out.f1 = ww1 - r1_ * g1 / rho;
-    out.f2 = ww2 - r1_ * (g2 / rho - 0.5 * g1 * g1 / (g * rho));
+    const double inv_rho = 1.0 / rho;  // one division (g = rho^2)
+    out.f1 = ww1 - r1_ * g1 * inv_rho;
+    out.f2 = ww2 - r1_ * inv_rho * (g2 - 0.5 * g1 * g1 * inv_rho * inv_rho);
   }
   return out;
 }
@@ -136,8 +137,9 @@ ClosestPoints CirclePairDistance::points_at(double c, double s) const {
 
 ClosestPoints CirclePairDistance::refine(double cos_t, double sin_t, int max_steps,
                                          double tolerance) const {
-  const double norm = std::sqrt(cos_t * cos_t + sin_t * sin_t);
-  double c = norm > 0.0 ? cos_t / norm : 1.0, s = norm > 0.0 ? sin_t / norm : 0.0;
+  const double norm2 = cos_t * cos_t + sin_t * sin_t;
+  const double inv = norm2 > 0.0 ? inverse_norm(norm2) : 0.0;
+  double c = norm2 > 0.0 ? cos_t * inv : 1.0, s = norm2 > 0.0 ? sin_t * inv : 0.0;
   newton(c, s, max_steps, tolerance);
   return points_at(c, s);
 }

@@ -141,6 +141,7 @@ bool TorusXpbdSim::step(double dt) {
   const double h = dt / substeps;
   for (int k = 0; k < substeps; ++k) {
     active_.clear();
+    ++substep_;
     collider_holds_.clear();
     integrate(h);
     // colliders first: the rings' own contacts then see where the colliders put them

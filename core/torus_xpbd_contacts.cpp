@@ -102,7 +102,7 @@ double TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan) {
     const bool same = seed.recent && angle_cos(seed, p.cos_t, p.sin_t) > kSameMinimum;
     double distance = p.distance;
     if (p.distance > 1e-12 * c) {
-      const Vec3 normal = (p.first - p.second) / p.distance;
+      const Vec3 normal = (1.0 / p.distance) * (p.first - p.second);
       if (same && normal.dot(seed.normal) < 0.0) {
         seed.normal = -normal, distance = -distance;
       } else {
@@ -120,8 +120,12 @@ double TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan) {
     pair.seed[kept++] = seed;
     const double depth = 2.0 * a - distance;
     if (depth > 0.0) {
-      apply_contact(pair.a, pair.b, seed.normal, 0.5 * (p.first + p.second), depth,
-                    model_.ring_friction, h);
+      // one contact per seed for the velocity pass: a retry adds its multiplier to the first's
+      const int into = seed.pushed == substep_ ? seed.active : -1;
+      seed.active = apply_contact(pair.a, pair.b, seed.normal, 0.5 * (p.first + p.second), depth,
+                                  model_.ring_friction, h, into);
+      seed.pushed = substep_;
+      pair.seed[kept - 1] = seed;
       stale = true;
       deepest = std::max(deepest, depth);
     }
@@ -171,6 +175,7 @@ void TorusXpbdSim::find_new_minima(RingPairContact& pair, const CirclePairDistan
     PairSeed& seed = pair.seed[slot];
     seed.cos_t = p.cos_t, seed.sin_t = p.sin_t;
     seed.bound = p.distance, seed.recent = true;
+    seed.active = -1, seed.pushed = 0;
     seed.normal = p.distance > 1e-12 * model_.ring.centre_radius
                       ? Vec3((p.first - p.second) / p.distance)
                       : Vec3((state_.position[pair.a] - state_.position[pair.b]).normalized());
@@ -244,14 +249,14 @@ void TorusXpbdSim::merge_contacts(std::size_t first, double h) {
 // depth m at `point`, with static friction: the contact point's slip over the substep is undone
 // with it when that takes less than friction times the normal multiplier. One correction of each
 // ring carries both.
-void TorusXpbdSim::apply_contact(int a, int b, const Vec3& normal, const Vec3& point, double depth,
-                                 double friction, double h) {
+int TorusXpbdSim::apply_contact(int a, int b, const Vec3& normal, const Vec3& point, double depth,
+                                double friction, double h, int into) {
   const bool ring_b = b >= 0;
   const Vec3 arm_a = point - state_.position[a];
   const Vec3 arm_b = ring_b ? Vec3(point - state_.position[b]) : Vec3::Zero();
   const double w = generalized_inverse_mass(a, arm_a, normal) +
                    (ring_b ? generalized_inverse_mass(b, arm_b, normal) : 0.0);
-  if (w <= 0.0) return;
+  if (w <= 0.0) return -1;
   const double stiffness_term = model_.settings.compliance / (h * h);
   const double lambda = (ring_b ? relaxation_ : 1.0) * depth / (w + stiffness_term);
   Vec3 correction = lambda * normal;  // kg m, on a (b takes the opposite)
@@ -277,12 +282,18 @@ void TorusXpbdSim::apply_contact(int a, int b, const Vec3& normal, const Vec3& p
   // every contact that pushed meets dynamic friction in the velocity pass, held or not (it only
   // takes sliding speed away, never more than there is): a held contact's velocity still carries
   // the slip that the contacts solved after it brought
-  active_.push_back({a, b, normal, arm_a, arm_b, lambda, w, normal.dot(relative), friction});
+  if (into >= 0) {
+    active_[into].lambda += lambda;
+  } else {
+    active_.push_back({a, b, normal, arm_a, arm_b, lambda, w, normal.dot(relative), friction});
+    into = static_cast<int>(active_.size()) - 1;
+  }
   // a ring held by a collider's static friction is held again after the rings' own contacts
   if (stuck && !ring_b)
     collider_holds_.push_back({a, rotation_[a].transpose() * arm_a, normal, lambda, friction});
   apply_correction(a, arm_a, correction);
   if (ring_b) apply_correction(b, arm_b, -correction);
+  return into;
 }
 
 Vec3 TorusXpbdSim::static_friction(int a, const Vec3& arm_a, int b, const Vec3& arm_b,
@@ -304,7 +315,7 @@ Vec3 TorusXpbdSim::static_friction(int a, const Vec3& arm_a, int b, const Vec3& 
     return undo(t1, slip.dot(t1)) + undo(t2, slip.dot(t2));
   }
   const double length = slip.norm();
-  return length > 0.0 ? undo(slip / length, length) : Vec3::Zero();
+  return length > 0.0 ? undo((1.0 / length) * slip, length) : Vec3::Zero();
 }
 
 // static friction against the colliders once more, after the rings' contacts have moved the rings:
@@ -327,42 +338,60 @@ void TorusXpbdSim::hold_collider_friction(double h) {
 }
 
 // restitution and dynamic friction on the velocities the substep produced, at every contact that
-// pushed in it: one impulse, whose normal part leaves e times the approach speed (0 for resting
-// contact) and whose tangential part takes from the sliding speed at most friction times the
-// normal impulse lambda / h, each part through the inverse mass along its own direction
+// pushed in it, in velocity_iterations Gauss-Seidel passes: each contact's impulse leaves its
+// normal speed e times the approach speed (0 for resting contact) and takes from its sliding
+// speed what friction allows, at most friction times the normal impulse lambda / h over all the
+// passes, each part through the inverse mass along its own direction. One pass leaves the speeds
+// the later contacts gave the earlier ones: a sheet draped over a table creeps off it.
 void TorusXpbdSim::velocity_pass(double h) {
   auto scope = profile_.scope("velocity_pass");
   const double resting = 2.0 * model_.gravity.norm() * h;  // m/s, slower contacts do not bounce
-  for (const ActiveContact& contact : active_) {
-    const bool ring_b = contact.b >= 0;
-    Vec3 relative = point_velocity(contact.a, contact.arm_a);
-    if (ring_b) relative -= point_velocity(contact.b, contact.arm_b);
-    const Vec3& n = contact.normal;
-    const double normal_speed = n.dot(relative);
-    const double e = std::abs(normal_speed) <= resting ? 0.0 : model_.settings.restitution;
-    Vec3 impulse = ((std::max(-e * contact.approach, 0.0) - normal_speed) / contact.w) * n;
-    const Vec3 sliding = relative - normal_speed * n;
-    // takes from the sliding speed along one unit tangent at most friction times lambda / h
-    const auto slow = [&](const Vec3& tangent, double speed) {
-      const double wt =
-          generalized_inverse_mass(contact.a, contact.arm_a, tangent) +
-          (ring_b ? generalized_inverse_mass(contact.b, contact.arm_b, tangent) : 0.0);
-      if (wt <= 0.0) return;
-      impulse -= std::copysign(
-                     std::min(contact.friction * contact.lambda / h, std::abs(speed) / wt), speed) *
-                 tangent;
-    };
-    if (contact.friction > 0.0 && model_.settings.friction_pyramid) {
-      Vec3 t1, t2;
-      tangent_axes(n, t1, t2);
-      slow(t1, sliding.dot(t1));
-      slow(t2, sliding.dot(t2));
-    } else if (contact.friction > 0.0) {
-      const double slide = sliding.norm();
-      if (slide > 0.0) slow(sliding / slide, slide);
+  const double inv_h = 1.0 / h;                            // 1/s
+  // the rings' poses do not change in the pass: what the inverse masses along a direction need
+  // from each ring's rotation, once per contact
+  velocity_terms_.resize(active_.size());
+  for (std::size_t k = 0; k < active_.size(); ++k) {
+    const ActiveContact& contact = active_[k];
+    VelocityTerms& terms = velocity_terms_[k];
+    terms.a = ring_terms(contact.a, contact.arm_a);
+    if (contact.b >= 0) terms.b = ring_terms(contact.b, contact.arm_b);
+  }
+  for (int iteration = 0; iteration < model_.settings.velocity_iterations; ++iteration) {
+    for (std::size_t k = 0; k < active_.size(); ++k) {
+      ActiveContact& contact = active_[k];
+      const VelocityTerms& terms = velocity_terms_[k];
+      const bool ring_b = contact.b >= 0;
+      Vec3 relative = point_velocity(contact.a, contact.arm_a);
+      if (ring_b) relative -= point_velocity(contact.b, contact.arm_b);
+      const Vec3& n = contact.normal;
+      const double normal_speed = n.dot(relative);
+      const double e = std::abs(normal_speed) <= resting ? 0.0 : model_.settings.restitution;
+      Vec3 impulse = ((std::max(-e * contact.approach, 0.0) - normal_speed) / contact.w) * n;
+      const Vec3 sliding = relative - normal_speed * n;
+      // takes from the sliding speed along one unit tangent what is left of friction's budget
+      const auto slow = [&](const Vec3& tangent, double speed, double& spent) {
+        const double wt =
+            inverse_mass_along(contact.a, contact.arm_a, terms.a, tangent) +
+            (ring_b ? inverse_mass_along(contact.b, contact.arm_b, terms.b, tangent) : 0.0);
+        if (wt <= 0.0) return;
+        const double budget = contact.friction * contact.lambda * inv_h - spent;
+        const double taken = std::min(budget, std::abs(speed) / wt);
+        if (taken <= 0.0) return;
+        spent += taken;
+        impulse -= std::copysign(taken, speed) * tangent;
+      };
+      if (contact.friction > 0.0 && model_.settings.friction_pyramid) {
+        Vec3 t1, t2;
+        tangent_axes(n, t1, t2);
+        slow(t1, sliding.dot(t1), contact.spent[0]);
+        slow(t2, sliding.dot(t2), contact.spent[1]);
+      } else if (contact.friction > 0.0) {
+        const double slide = sliding.norm();
+        if (slide > 0.0) slow((1.0 / slide) * sliding, slide, contact.spent[0]);
+      }
+      apply_impulse(contact.a, contact.arm_a, terms.a, impulse);
+      if (ring_b) apply_impulse(contact.b, contact.arm_b, terms.b, -impulse);
     }
-    apply_impulse(contact.a, contact.arm_a, impulse);
-    if (ring_b) apply_impulse(contact.b, contact.arm_b, -impulse);
   }
 }
 

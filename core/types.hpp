@@ -1,6 +1,8 @@
 // Common numeric types. SI units everywhere (m, kg, s).
 #pragma once
 
+#include <cmath>
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -11,6 +13,15 @@ using Quat = Eigen::Quaterniond;
 using Mat3 = Eigen::Matrix3d;
 using Positions = Eigen::Matrix3Xd;     // (3, n) m
 using Orientations = Eigen::Matrix4Xd;  // (4, n) quaternion (w, x, y, z), local ring frame -> world
+
+// 1 / sqrt(n2) for a squared norm n2. Near 1 (a unit vector or quaternion after a small turn:
+// every contact correction renormalises one) the first-order term is exact to rounding (it errs
+// by 3/8 (n2 - 1)^2 < 4e-17) and needs neither a square root nor a division, whose latency is much
+// of the contact loops' time
+inline double inverse_norm(double n2) {
+  const double excess = n2 - 1.0;
+  return std::abs(excess) < 1e-8 ? 1.0 - 0.5 * excess : 1.0 / std::sqrt(n2);
+}
 
 // ring index pair; the smaller index first
 struct RingPair {

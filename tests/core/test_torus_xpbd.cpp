@@ -117,6 +117,28 @@ TEST(TorusXpbd, FrictionConeSlidesWhereThePyramidHoldsOnTheDiagonal) {
   }
 }
 
+TEST(TorusXpbd, ARingSlidingToRestStopsWhereCoulombSaysWithAnyNumberOfVelocityPasses) {
+  // a flat ring thrown along a plane at v0 stops after v0^2 / (2 mu g): each velocity pass takes
+  // friction's impulse from what the earlier ones left of mu times the normal impulse, so more
+  // passes do not brake harder
+  const double mu = 0.4, g = 9.81, v0 = 0.2;
+  const double stop = v0 * v0 / (2.0 * mu * g);  // m
+  const Quat flat = Quat::Identity();
+  for (const int passes : {1, 8, 32}) {
+    SCOPED_TRACE("velocity passes " + std::to_string(passes));
+    json document = one_ring(0.0008);
+    document["colliders"] = {{{"type", "plane"}, {"friction", mu}}};
+    document["initial_velocity"] = {v0, 0.0, 0.0};
+    TorusXpbdSettings settings;
+    settings.velocity_iterations = passes;
+    Sim run(document, settings, &flat);
+    const Vec3 start = run.state().position[0];
+    run.advance(2.0 * v0 / (mu * g));  // twice the time it takes to stop
+    EXPECT_NEAR(run.state().position[0].x() - start.x(), stop, 0.05 * stop);
+    EXPECT_LT(run.state().velocity[0].norm(), 1e-3 * v0);
+  }
+}
+
 TEST(TorusXpbd, ARingHangsFromAPinnedRingWhereTheWiresHook) {
   // two chain links, the first pinned in the x/y plane: the second slides to the bottom of the
   // first's wire and hangs there (no friction to hold it aside), its centre the inner diameter
