@@ -137,8 +137,10 @@ int PlausibleSim::substep_count() const {
 void PlausibleSim::substep(double h, double damp_dt) {
   const bool contacts = model_.self_contact && state_.position.cols() > 1;
   const bool spring = model_.settings.repulsion_spring;
-  // external forces: gravity, and the repulsion spring between non-neighbours when chosen
-  accumulate_forces();
+  // external forces: with the repulsion spring between non-neighbours, gravity and the springs
+  // summed per ring; without it gravity alone, which integrate adds as an acceleration (one
+  // pass over the rings less a substep)
+  if (spring) accumulate_forces();
   if (contacts && spring) {
     auto scope = profile_.scope("self_contact");
     refresh_contact_candidates();
@@ -227,13 +229,15 @@ void PlausibleSim::integrate(double dt) {
   // a ring that starts the step inside a collider's margin (a scene placed it there, or its torus
   // turned to reach farther) moves out before the step, so the move makes no velocity
   if (!model_.colliders.empty()) collide();
+  const bool forces = model_.settings.repulsion_spring;  // else gravity alone (substep)
+  const Vec3 fall = dt * model_.gravity;                 // m/s
 #pragma omp parallel for schedule(static) num_threads(loop_threads(threads_, n))
   for (int i = 0; i < n; ++i) {
     state_.previous.col(i) = state_.position.col(i);
     state_.contact_push[i] = 0.0;
     const double w = model_.inverse_mass[i];
     if (w == 0.0) continue;  // pinned
-    state_.velocity.col(i) += dt * w * state_.force.col(i);
+    state_.velocity.col(i) += forces ? Vec3(dt * w * state_.force.col(i)) : fall;
     state_.position.col(i) += dt * state_.velocity.col(i);
   }
 }

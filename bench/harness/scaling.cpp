@@ -36,36 +36,53 @@ Scene curtain_at(const ScalingPlan& plan, const std::string& scenes, int side) {
                                                     "duration=" + d, "sample_interval=" + d});
 }
 
-ScalingCell measure(const Scene& scene, const std::string& backend, int threads, int repeats) {
-  ScalingCell cell;
-  cell.backend = backend;
-  cell.side = scene.weave.cols;
-  cell.rings = scene.weave.rows * scene.weave.cols;
-  cell.threads = threads;
-  std::vector<double> ms;
-  for (int k = 0; k < repeats && !interrupted(); ++k) {
-    RunOptions options;
-    options.backends = {backend};
-    options.progress = false;
-    options.reference = kNoReference;
-    options.threads = threads;
-    const SceneRun run = run_scene(scene, options);
-    const BackendRun& b = run.runs.at(0);
-    if (b.steps == 0) break;
-    ms.push_back(1e3 * b.wall_s / static_cast<double>(b.steps));
-    cell.hashes_agree = cell.hashes_agree && (k == 0 || b.hash == cell.hash);
-    cell.hash = b.hash;
-    cell.steps = b.steps;
-    cell.dt = b.dt;
-    cell.max_stretch = std::max(cell.max_stretch, b.peak_stretch);
-    cell.verdict = to_string(b.verdict);
+// one cell per thread count, each the median of `repeats` runs. The runs go round the thread
+// counts (1, 2, 1, 2, ...) so that a slow spell of a shared machine falls on all of them alike
+// instead of on one cell's runs, and the speed-up compares like with like
+std::vector<ScalingCell> measure(const Scene& scene, const std::string& backend,
+                                 const std::vector<int>& thread_counts, int repeats,
+                                 bool progress) {
+  std::vector<ScalingCell> cells(thread_counts.size());
+  std::vector<std::vector<double>> ms(thread_counts.size());  // ms per step of every run
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    ScalingCell& cell = cells[k];
+    cell.backend = backend;
+    cell.side = scene.weave.cols;
+    cell.rings = scene.weave.rows * scene.weave.cols;
+    cell.threads = thread_counts[k];
   }
-  cell.runs = static_cast<int>(ms.size());
-  if (!ms.empty()) {
-    std::sort(ms.begin(), ms.end());
-    cell.ms_per_step = ms[ms.size() / 2];
+  for (int round = 0; round < repeats && !interrupted(); ++round) {
+    for (std::size_t k = 0; k < cells.size() && !interrupted(); ++k) {
+      ScalingCell& cell = cells[k];
+      if (progress)
+        std::fprintf(stderr, "bench: scaling %s %d x %d on %d thread%s (run %d of %d)\n",
+                     backend.c_str(), cell.side, cell.side, cell.threads,
+                     cell.threads == 1 ? "" : "s", round + 1, repeats);
+      RunOptions options;
+      options.backends = {backend};
+      options.progress = false;
+      options.reference = kNoReference;
+      options.threads = cell.threads;
+      const SceneRun run = run_scene(scene, options);
+      const BackendRun& b = run.runs.at(0);
+      if (b.steps == 0) continue;
+      ms[k].push_back(1e3 * b.wall_s / static_cast<double>(b.steps));
+      cell.hashes_agree = cell.hashes_agree && (ms[k].size() == 1 || b.hash == cell.hash);
+      cell.hash = b.hash;
+      cell.steps = b.steps;
+      cell.dt = b.dt;
+      cell.max_stretch = std::max(cell.max_stretch, b.peak_stretch);
+      cell.verdict = to_string(b.verdict);
+    }
   }
-  return cell;
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    std::vector<double>& runs = ms[k];
+    cells[k].runs = static_cast<int>(runs.size());
+    if (runs.empty()) continue;
+    std::sort(runs.begin(), runs.end());
+    cells[k].ms_per_step = runs[runs.size() / 2];
+  }
+  return cells;
 }
 
 // wall seconds a run of `info` is estimated to take (the registry's rough cost)
@@ -104,11 +121,12 @@ void write_csv(const std::vector<ScalingCell>& cells, const std::string& path) {
 
 std::string markdown(const std::vector<ScalingCell>& cells, const ScalingPlan& plan) {
   std::ostringstream md;
-  char line[320];
+  char line[512];
   std::snprintf(line, sizeof line,
                 "The curtain (4-in-1, hung from its top edge, self-contact on, each "
                 "backend's default dt) for %.2g s at each size; ms per step counts `step()` only, "
-                "the median of %d runs for plausible. Same hash: every run of plausible at that "
+                "the median of %d runs for plausible, taken in turn on each thread count. Same "
+                "hash: every run of plausible at that "
                 "size, on any thread count, ended on the same final-state hash.\n\n",
                 plan.duration, plan.repeats);
   md << line
@@ -164,13 +182,10 @@ std::string run_scaling(const ScalingPlan& plan, const std::string& scenes,
       const bool plausible = name == "plausible";
       const double dt = resolve_knobs(scene, info).at("dt");
       if (!plausible && estimated_seconds(info, scene, dt) > plan.budget_s) continue;
-      for (int threads : plausible ? plan.threads : std::vector<int>{1}) {
-        if (interrupted()) break;
-        if (progress)
-          std::fprintf(stderr, "bench: scaling %s %d x %d on %d thread%s\n", name.c_str(), side,
-                       side, threads, threads == 1 ? "" : "s");
-        cells.push_back(measure(scene, name, threads, plausible ? plan.repeats : 1));
-      }
+      const std::vector<ScalingCell> measured =
+          measure(scene, name, plausible ? plan.threads : std::vector<int>{1},
+                  plausible ? plan.repeats : 1, progress);
+      cells.insert(cells.end(), measured.begin(), measured.end());
     }
   }
   write_csv(cells, out + "/scaling.csv");

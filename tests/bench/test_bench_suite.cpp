@@ -68,6 +68,38 @@ TEST(Scaling, TableHasEverySizeOnEachThreadCountWithOneHashPerSize) {
   fs::remove_all(out);
 }
 
+TEST(Scaling, RepeatsGoRoundTheThreadCountsSoASlowSpellFallsOnAll) {
+  // two runs per cell: 1 thread, 2 threads, 1 thread, 2 threads (not 1, 1, 2, 2), each cell the
+  // median of its own two
+  ScalingPlan plan = scaling_plan(true, 4);
+  plan.repeats = 2;
+  const fs::path out = fs::temp_directory_path() / "chainmail_test_scaling_rounds";
+  fs::remove_all(out);
+  fs::create_directories(out);
+  testing::internal::CaptureStderr();
+  run_scaling(plan, CHAINMAIL_SOURCE_DIR "/bench/scenes", {"plausible"}, out.string(), true);
+  const std::string progress = testing::internal::GetCapturedStderr();
+  std::vector<std::string> order;
+  std::stringstream lines(progress);
+  for (std::string line; std::getline(lines, line);)
+    if (line.find("bench: scaling plausible 4 x 4") == 0) order.push_back(line.substr(31));
+  EXPECT_EQ(order,
+            (std::vector<std::string>{"on 1 thread (run 1 of 2)", "on 2 threads (run 1 of 2)",
+                                      "on 1 thread (run 2 of 2)", "on 2 threads (run 2 of 2)"}))
+      << progress;
+  std::ifstream csv(out / "scaling.csv");
+  std::string line;
+  std::getline(csv, line);
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    ++rows;
+    EXPECT_EQ(line.find("plausible,4,16,"), 0u) << line;
+    EXPECT_NE(line.find(",2,"), std::string::npos) << line;  // runs
+  }
+  EXPECT_EQ(rows, 2);
+  fs::remove_all(out);
+}
+
 TEST(BenchPlan, EveryStepLoadsAndQuickModeIsSmallerAndShorter) {
   const BenchPlan& plan = bench_plan();
   EXPECT_EQ(plan.scenes.size(), 6u);
