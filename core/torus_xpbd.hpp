@@ -189,11 +189,13 @@ class TorusXpbdSim {
   };
   struct VelocityTerms {
     RingTerms a, b;
+    double inverse_w = 0.0;  // kg, 1 / the contact's inverse mass along its normal
   };
   RingTerms ring_terms(int ring, const Vec3& arm) const;
-  // generalized_inverse_mass along a unit direction, from the terms
+  // generalized_inverse_mass along a direction of squared length length2, times length2, from
+  // the terms (a unit direction: the inverse mass itself)
   double inverse_mass_along(int ring, const Vec3& arm, const RingTerms& terms,
-                            const Vec3& direction) const;
+                            const Vec3& direction, double length2 = 1.0) const;
   void apply_impulse(int ring, const Vec3& arm, const RingTerms& terms, const Vec3& impulse);
   Vec3 point_velocity(int ring, const Vec3& arm) const;
   CircleFrame circle_of(int ring) const;  // its centre circle, from the cached rotation
@@ -266,15 +268,15 @@ inline TorusXpbdSim::RingTerms TorusXpbdSim::ring_terms(int ring, const Vec3& ar
   return {Vec3(rotation_[ring].col(1)).cross(arm), arm.squaredNorm()};
 }
 
-// with lever = arm x d: |lever|^2 = |arm|^2 - (arm . d)^2 and lever . axis = d . (axis x arm), so
-// lever . I^-1 lever = I_d^-1 |lever|^2 + (I_a^-1 - I_d^-1) (lever . axis)^2
+// with lever = arm x d: |lever|^2 = |arm|^2 |d|^2 - (arm . d)^2 and lever . axis = d . (axis x
+// arm), so lever . I^-1 lever = I_d^-1 |lever|^2 + (I_a^-1 - I_d^-1) (lever . axis)^2
 inline double TorusXpbdSim::inverse_mass_along(int ring, const Vec3& arm, const RingTerms& terms,
-                                               const Vec3& direction) const {
+                                               const Vec3& direction, double length2) const {
   const double w = model_.inverse_mass[ring];
   if (w == 0.0) return 0.0;
   const double across = model_.inverse_inertia_diameter[ring];
   const double along_arm = arm.dot(direction), along_axis = direction.dot(terms.lever_axis);
-  return w + across * (terms.arm2 - along_arm * along_arm) +
+  return w * length2 + across * (terms.arm2 * length2 - along_arm * along_arm) +
          (model_.inverse_inertia_axis[ring] - across) * along_axis * along_axis;
 }
 

@@ -355,6 +355,7 @@ void TorusXpbdSim::velocity_pass(double h) {
     VelocityTerms& terms = velocity_terms_[k];
     terms.a = ring_terms(contact.a, contact.arm_a);
     if (contact.b >= 0) terms.b = ring_terms(contact.b, contact.arm_b);
+    terms.inverse_w = 1.0 / contact.w;
   }
   for (int iteration = 0; iteration < model_.settings.velocity_iterations; ++iteration) {
     for (std::size_t k = 0; k < active_.size(); ++k) {
@@ -366,7 +367,7 @@ void TorusXpbdSim::velocity_pass(double h) {
       const Vec3& n = contact.normal;
       const double normal_speed = n.dot(relative);
       const double e = std::abs(normal_speed) <= resting ? 0.0 : model_.settings.restitution;
-      Vec3 impulse = ((std::max(-e * contact.approach, 0.0) - normal_speed) / contact.w) * n;
+      Vec3 impulse = ((std::max(-e * contact.approach, 0.0) - normal_speed) * terms.inverse_w) * n;
       const Vec3 sliding = relative - normal_speed * n;
       // takes from the sliding speed along one unit tangent what is left of friction's budget
       const auto slow = [&](const Vec3& tangent, double speed, double& spent) {
@@ -386,8 +387,26 @@ void TorusXpbdSim::velocity_pass(double h) {
         slow(t1, sliding.dot(t1), contact.spent[0]);
         slow(t2, sliding.dot(t2), contact.spent[1]);
       } else if (contact.friction > 0.0) {
-        const double slide = sliding.norm();
-        if (slide > 0.0) slow((1.0 / slide) * sliding, slide, contact.spent[0]);
+        // the cone, along the slide itself: the inverse mass along it times slide^2 needs no
+        // square root, so that the common case, a slide friction stops, waits on none
+        const double slide2 = sliding.squaredNorm();
+        const double w_slide2 =
+            inverse_mass_along(contact.a, contact.arm_a, terms.a, sliding, slide2) +
+            (ring_b ? inverse_mass_along(contact.b, contact.arm_b, terms.b, sliding, slide2) : 0.0);
+        const double budget = contact.friction * contact.lambda * inv_h - contact.spent[0];
+        if (slide2 > 0.0 && w_slide2 > 0.0 && budget > 0.0) {
+          const double stop =
+              slide2 / w_slide2;  // kg: the impulse per m/s of sliding that stops it
+          const double slide = std::sqrt(slide2);  // m/s
+          const double needed = slide * stop;      // kg m/s
+          if (needed <= budget) {
+            impulse -= stop * sliding;
+            contact.spent[0] += needed;
+          } else {
+            impulse -= (budget / slide) * sliding;
+            contact.spent[0] += budget;
+          }
+        }
       }
       apply_impulse(contact.a, contact.arm_a, terms.a, impulse);
       if (ring_b) apply_impulse(contact.b, contact.arm_b, terms.b, -impulse);
