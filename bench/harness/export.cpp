@@ -54,8 +54,10 @@ std::string npy_header(const char* descr, const std::vector<std::size_t>& shape)
   return header + dict;
 }
 
+// `bytes` little-endian bytes of value; past the eighth, zeros (a shift by 64 or more is undefined)
 void put(std::string& out, std::uint64_t value, int bytes) {
-  for (int k = 0; k < bytes; ++k) out.push_back(static_cast<char>((value >> (8 * k)) & 0xff));
+  for (int k = 0; k < bytes; ++k)
+    out.push_back(k < 8 ? static_cast<char>((value >> (8 * k)) & 0xff) : '\0');
 }
 
 // a zip of stored entries written one after the other; each entry's size and CRC are patched

@@ -66,8 +66,9 @@ void apply_camera(const std::string& text, Scene& scene, ImageSettings& image) {
   }
   double fov = scene.camera.fov_deg;
   if (m[3].matched) {
+    const std::string field = m[3].str();  // kept: strtod's end points into it
     char* end = nullptr;
-    fov = std::strtod(m[3].str().c_str(), &end);
+    fov = std::strtod(field.c_str(), &end);
     if (*end != '\0' || !(fov >= 1.0 && fov <= 170.0))
       throw UsageError(names + "field of view must be in [1, 170] degrees");
   }
