@@ -24,6 +24,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "core/circle_contact.hpp"
@@ -92,7 +93,7 @@ struct PairSeed {
   // the contact it pushed in substep `pushed` (an index into that substep's active contacts): the
   // retries of the same seed in that substep add to it instead of adding contacts
   int active = -1;
-  unsigned pushed = 0;
+  std::uint64_t pushed = 0;
 };
 
 // two rings that may touch during this step, with the minima of their distance it follows
@@ -226,7 +227,7 @@ class TorusXpbdSim {
   std::vector<ColliderCandidate> collider_candidates_, previous_candidates_;
   std::vector<ActiveContact> active_;
   std::vector<VelocityTerms> velocity_terms_;  // (active contacts)
-  unsigned substep_ = 0;  // substeps taken, counting from 1: stamps the seeds' active contacts
+  std::uint64_t substep_ = 0;  // substeps taken, counting from 1: stamps the seeds' active contacts
   std::vector<ColliderHold> collider_holds_;
   std::vector<Mat3> rotation_;  // (n) each ring's orientation as a matrix, kept in step with it
   std::vector<Mat3> previous_rotation_;  // (n) the same at the substep's start
