@@ -117,7 +117,6 @@ double TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan) {
     for (int j = 0; j < kept && keep; ++j)
       keep = angle_cos(pair.seed[j], seed.cos_t, seed.sin_t) < kDuplicate;
     if (!keep) continue;
-    pair.seed[kept++] = seed;
     const double depth = 2.0 * a - distance;
     if (depth > 0.0) {
       // one contact per seed for the velocity pass: a retry adds its multiplier to the first's
@@ -125,10 +124,10 @@ double TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan) {
       seed.active = apply_contact(pair.a, pair.b, seed.normal, 0.5 * (p.first + p.second), depth,
                                   model_.ring_friction, h, into);
       seed.pushed = substep_;
-      pair.seed[kept - 1] = seed;
       stale = true;
       deepest = std::max(deepest, depth);
     }
+    pair.seed[kept++] = seed;
   }
   pair.seeds = kept;
   return deepest;
