@@ -34,6 +34,7 @@ const KnobTable<TorusXpbdSettings>& torus_xpbd_knobs() {
 class TorusXpbdBackend final : public Backend {
  public:
   const char* name() const override { return "torus_xpbd"; }
+  void set_threads(int threads) override { sim_.set_threads(threads); }
   void reset(const Scene& scene, const Weave& weave, const Knobs& knobs) override {
     sim_.reset(scene, weave, torus_xpbd_knobs().settings(knobs));
   }

@@ -29,21 +29,28 @@ class StageProfile {
   // time one stage: `auto scope = profile.scope("colliders");`
   class Scope {
    public:
-    Scope(StageStats& stats) : stats_(stats), start_(std::chrono::steady_clock::now()) {}
+    // null: times nothing (a thread other than the one that keeps the profile)
+    explicit Scope(StageStats* stats)
+        : stats_(stats), start_(stats ? std::chrono::steady_clock::now() : Clock::time_point{}) {}
     ~Scope() {
-      stats_.calls += 1;
-      stats_.seconds +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+      if (!stats_) return;
+      stats_->calls += 1;
+      stats_->seconds += std::chrono::duration<double>(Clock::now() - start_).count();
     }
     Scope(const Scope&) = delete;
     Scope& operator=(const Scope&) = delete;
 
    private:
-    StageStats& stats_;
-    std::chrono::steady_clock::time_point start_;
+    using Clock = std::chrono::steady_clock;
+    StageStats* stats_;
+    Clock::time_point start_;
   };
 
-  Scope scope(const std::string& stage) { return Scope(stages_[stage]); }
+  Scope scope(const std::string& stage) { return Scope(&stages_[stage]); }
+  // times the stage only where `on` (the profile is kept by one thread of a team)
+  Scope scope_if(bool on, const std::string& stage) {
+    return Scope(on ? &stages_[stage] : nullptr);
+  }
   const std::map<std::string, StageStats>& stages() const { return stages_; }
 
   // one step's final residual against its tolerance

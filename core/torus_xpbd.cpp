@@ -1,5 +1,5 @@
-// The rigid-torus XPBD model: set-up, the step and its phases other than contact (those are in
-// torus_xpbd_contacts.cpp), and the rigid-body helpers every phase uses.
+// The rigid-torus XPBD model: set-up, and the step's phases other than contact (those are in
+// torus_xpbd_contacts.cpp; the substeps that run them, in torus_xpbd_step.cpp).
 #include "core/torus_xpbd.hpp"
 
 #include <algorithm>
@@ -13,15 +13,6 @@ namespace {
 // sleeping: a ring whose points all move slower than this for kSleepDelay is put to sleep
 constexpr double kSleepSpeed = 1e-3;  // m/s
 constexpr double kSleepDelay = 0.3;   // s
-// substeps between scans of a pair for new minima (the seeds are followed in every substep)
-constexpr int kScanInterval = 4;
-// the most substeps a fast step may take
-constexpr int kMaxSubsteps = 2000;
-// a link that pushed deeper than this (in wire radii) in a substep is solved again, up to this many
-// more passes
-constexpr double kRetryDepth = 0.003;
-constexpr int kRetryPasses = 4;
-
 bool pair_less(const RingPair& x, const RingPair& y) {
   return x.a != y.a ? x.a < y.a : x.b < y.b;
 }
@@ -97,7 +88,35 @@ void TorusXpbdSim::reset(const Scene& scene, const Weave& weave,
   state_.previous_orientation = state_.orientation;
   state_.still_time.assign(n, 0.0);
   state_.asleep.assign(n, 0);
+  split_rings(scene, weave);
   reset_scratch();
+}
+
+// the two halves: the rings on either side of the median of their rest layout along its longest
+// axis across gravity (a hanging sheet splits into left and right, each with its share of the
+// pins, and each half's links keep their order outward from the supports)
+void TorusXpbdSim::split_rings(const Scene& scene, const Weave& weave) {
+  const int n = weave.size();
+  int down = -1;
+  if (scene.gravity.squaredNorm() > 0.0) scene.gravity.cwiseAbs().maxCoeff(&down);
+  int axis = 0;
+  double widest = -1.0;
+  for (int k = 0; k < 3; ++k) {
+    if (k == down || n == 0) continue;
+    const double extent =
+        weave.rest_position.row(k).maxCoeff() - weave.rest_position.row(k).minCoeff();
+    if (extent > widest) widest = extent, axis = k;
+  }
+  std::vector<int> order(n);
+  for (int i = 0; i < n; ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](int x, int y) {
+    const double px = weave.rest_position(axis, x), py = weave.rest_position(axis, y);
+    return px != py ? px < py : x < y;
+  });
+  part_.assign(n, 0);
+  for (int k = n / 2; k < n; ++k) part_[order[k]] = 1;
+  for (auto& rings : part_rings_) rings.clear();
+  for (int i = 0; i < n; ++i) part_rings_[part_[i]].push_back(i);
 }
 
 // the per-step and per-substep scratch, sized once; linked neighbours are contact pairs for good
@@ -117,6 +136,9 @@ void TorusXpbdSim::reset_scratch() {
   }
   link_order_.resize(link_pairs_.size());
   for (std::size_t k = 0; k < link_order_.size(); ++k) link_order_[k] = static_cast<int>(k);
+  for (auto& links : part_links_) links.clear();
+  for (auto& others : part_others_) others.clear();
+  for (auto& candidates : part_candidates_) candidates.clear();
   support_depth_.assign(n, -1);
   queue_.reserve(n);
   touching_.assign(n, 0);
@@ -125,68 +147,9 @@ void TorusXpbdSim::reset_scratch() {
   previous_pairs_.clear();
   collider_candidates_.clear();
   previous_candidates_.clear();
-  active_.clear();
-  collider_holds_.clear();
+  for (auto& active : active_) active.clear();
+  for (auto& holds : collider_holds_) holds.clear();
   profile_.clear();
-}
-
-bool TorusXpbdSim::step(double dt) {
-  collect_pairs(dt);
-  // enough substeps that two rings close in by at most a wire radius in one: wires cannot pass
-  // through each other between two contact solves, however fast the rings fly
-  const double travel = 2.0 * fastest_ * dt / model_.ring.wire_radius;
-  const int substeps =
-      std::max(model_.settings.substeps,
-               static_cast<int>(std::min(std::ceil(travel), double{kMaxSubsteps})));
-  const double h = dt / substeps;
-  for (int k = 0; k < substeps; ++k) {
-    active_.clear();
-    ++substep_;
-    collider_holds_.clear();
-    integrate(h);
-    // colliders first: the rings' own contacts then see where the colliders put them
-    const bool scan = k % kScanInterval == 0;
-    if (!collider_candidates_.empty()) solve_colliders(h, scan);
-    {
-      auto scope = profile_.scope("contacts");
-      solve_links(h, scan);
-      if (!other_pairs_.empty()) {
-        auto others = profile_.scope("self_contact");
-        solve_pairs(other_pairs_, h, scan);
-      }
-    }
-    if (!collider_holds_.empty()) hold_collider_friction(h);
-    update_velocities(h);
-    velocity_pass(h);
-  }
-  if (model_.settings.sleeping) update_sleep(dt);
-  state_.t += dt;
-  return finite();
-}
-
-// the links in their order, then again those that pushed deep or hold a ring against a collider:
-// one Gauss-Seidel pass leaves a link carrying much of a sheet's weight (a corner that holds half
-// of it, a ring pressed between a collider and the rings it carries) short by a share of that
-// weight. The later passes are not over-relaxed: they correct what is left, not a whole load.
-void TorusXpbdSim::solve_links(double h, bool scan) {
-  const double deep = kRetryDepth * model_.ring.wire_radius;  // m
-  const auto again = [&](const RingPairContact& pair, double depth) {
-    return depth > deep || touching_[pair.a] || touching_[pair.b];
-  };
-  retry_.clear();
-  for (int index : link_order_) {
-    if (again(link_pairs_[index], solve_pair(link_pairs_[index], h, scan))) retry_.push_back(index);
-  }
-  relaxation_ = 1.0;
-  for (int pass = 0; pass < kRetryPasses && !retry_.empty(); ++pass) {
-    std::size_t kept = 0;
-    for (int index : retry_) {
-      if (again(link_pairs_[index], solve_pair(link_pairs_[index], h, false)))
-        retry_[kept++] = index;
-    }
-    retry_.resize(kept);
-  }
-  relaxation_ = kOverRelaxation;
 }
 
 // candidate pairs and collider candidates for the whole step: whatever the step's motion can
@@ -233,7 +196,11 @@ void TorusXpbdSim::collect_pairs(double dt) {
       carry_pair(pair.a, pair.b, other_pairs_, previous_pairs_, cursor);
     }
   }
+  for (auto& others : part_others_) others.clear();
+  for (std::size_t k = 0; k < other_pairs_.size(); ++k)
+    part_others_[pair_part(other_pairs_[k].a, other_pairs_[k].b)].push_back(static_cast<int>(k));
 
+  for (auto& candidates : part_candidates_) candidates.clear();
   if (model_.colliders.empty()) return;
   auto colliders = profile_.scope("colliders");
   // ring-major like the last step's list, whose deepest angles carry over
@@ -253,6 +220,7 @@ void TorusXpbdSim::collect_pairs(double dt) {
       if (last < previous_candidates_.size() && previous_candidates_[last].ring == i &&
           previous_candidates_[last].collider == k)
         candidate = previous_candidates_[last];
+      part_candidates_[part_[i]].push_back(static_cast<int>(collider_candidates_.size()));
       collider_candidates_.push_back(candidate);
     }
   }
@@ -287,12 +255,13 @@ void TorusXpbdSim::order_links() {
   // a total order (ties by index): std::sort needs no buffer, and the order is deterministic
   std::sort(link_order_.begin(), link_order_.end(),
             [&](int x, int y) { return depth(x) != depth(y) ? depth(x) < depth(y) : x < y; });
+  for (auto& links : part_links_) links.clear();
+  for (int index : link_order_)
+    part_links_[pair_part(link_pairs_[index].a, link_pairs_[index].b)].push_back(index);
 }
 
-void TorusXpbdSim::integrate(double h) {
-  auto scope = profile_.scope("integrate");
-  const int n = static_cast<int>(state_.position.size());
-  for (int i = 0; i < n; ++i) {
+void TorusXpbdSim::integrate(double h, int part) {
+  for (int i : part_rings_[part]) {
     state_.previous_position[i] = state_.position[i];
     state_.previous_orientation[i] = state_.orientation[i];
     previous_rotation_[i] = rotation_[i];
@@ -316,12 +285,10 @@ void TorusXpbdSim::integrate(double h) {
   }
 }
 
-void TorusXpbdSim::update_velocities(double h) {
-  auto scope = profile_.scope("velocities");
-  const int n = static_cast<int>(state_.position.size());
+void TorusXpbdSim::update_velocities(double h, int part) {
   const double keep = std::exp(-model_.settings.damping * h);
   const double c = model_.ring.centre_radius;
-  for (int i = 0; i < n; ++i) {
+  for (int i : part_rings_[part]) {
     if (model_.inverse_mass[i] == 0.0) continue;
     const Vec3 v = (state_.position[i] - state_.previous_position[i]) / h;
     const Quat turn = state_.orientation[i] * state_.previous_orientation[i].conjugate();

@@ -21,6 +21,11 @@
 // A step takes `substeps` substeps, more when rings fly fast: two rings never close in by more
 // than a wire radius between two solves. A seed remembers the side its pair lay on, so wires
 // pushed into each other beyond their circles' crossing are pushed back the way they came.
+//
+// Threads: the rings are split once into two halves across the fabric (kParts); every phase of a
+// substep solves the contacts within each half side by side, then those between the halves
+// (kSeam) on one thread. The halves share no ring, so the order, and the result bit for bit, is
+// the same on one thread as on two.
 #pragma once
 
 #include <array>
@@ -136,6 +141,8 @@ struct ColliderCandidate {
 class TorusXpbdSim {
  public:
   void reset(const Scene& scene, const Weave& weave, const TorusXpbdSettings& settings);
+  // threads the step may use (the halves run side by side on two; any count, same result)
+  void set_threads(int threads) { threads_ = threads < 1 ? 1 : threads; }
   // one step of dt in `substeps` substeps; false once the state is not finite
   bool step(double dt);
   void frame(RingFrame& out) const;
@@ -149,36 +156,48 @@ class TorusXpbdSim {
   const std::vector<RingPairContact>& other_pairs() const { return other_pairs_; }
   // translational + rotational kinetic energy plus gravitational potential energy, J
   double energy() const;
+  // the half each ring is solved in (0 or 1)
+  const std::vector<char>& ring_part() const { return part_; }
+
+  // the halves, and the contacts between them
+  static constexpr int kParts = 2;
+  static constexpr int kSeam = kParts;
 
  private:
   void reset_scratch();
-  // the step's phases (torus_xpbd.cpp)
+  void split_rings(const Scene& scene, const Weave& weave);
+  int pair_part(int a, int b) const { return part_[a] == part_[b] ? part_[a] : kSeam; }
+  // the step's phases (torus_xpbd.cpp); `part`: a half, or kSeam
   void collect_pairs(double dt);
-  void integrate(double h);
-  void update_velocities(double h);
+  void run_substeps(double h, int substeps, int team);
+  void integrate(double h, int part);
+  void update_velocities(double h, int part);
   void update_sleep(double dt);
   bool finite() const;
   // contacts (torus_xpbd_contacts.cpp)
-  void solve_links(double h, bool scan);
-  void solve_pairs(std::vector<RingPairContact>& pairs, double h, bool scan);
+  // the links of one part once (over-relaxed), or those still deep once more; `retry` keeps those
+  // to be solved again
+  void solve_links(double h, bool scan, int part, bool first);
+  void solve_other_pairs(double h, bool scan, int part);
   void order_links();
   // the deepest depth it corrected, m
-  double solve_pair(RingPairContact& pair, double h, bool scan);
+  double solve_pair(RingPairContact& pair, double h, bool scan, int part, double relaxation);
   void find_new_minima(RingPairContact& pair, const CirclePairDistance& distance, double limit);
-  void solve_colliders(double h, bool scan);
-  // the index of the active contact it added to (`into`, a retry of a seed that pushed in this
-  // substep) or made; -1: none (nothing can move)
+  void solve_colliders(double h, bool scan, int part);
+  // the index in active_[part] of the contact it added to (`into`, a retry of a seed that pushed
+  // in this substep) or made; -1: none (nothing can move)
   int apply_contact(int a, int b, const Vec3& normal, const Vec3& point, double depth,
-                    double friction, double h, int into = -1);
-  void merge_contacts(std::size_t first, double h);
-  void hold_collider_friction(double h);
+                    double friction, double h, int part, double relaxation = 1.0, int into = -1);
+  void merge_contacts(int part, std::size_t first, double h);
+  void hold_collider_friction(double h, int part);
   // the static-friction correction (kg m, on a; b = -1: a collider) that undoes the contact point's
   // tangential `slip` (m) where that takes less than `limit` (friction times the normal
   // multiplier): along the slip (the cone) or on each tangent axis (the pyramid); `held` is set
   // when friction undid any of it
   Vec3 static_friction(int a, const Vec3& arm_a, int b, const Vec3& arm_b, const Vec3& normal,
                        const Vec3& slip, double limit, double stiffness_term, bool& held) const;
-  void velocity_pass(double h);
+  void prepare_velocity_pass(int part);
+  void velocity_sweep(double h, int part);
   // rigid-body helpers
   Vec3 inverse_inertia_times(int ring, const Vec3& v) const;
   double generalized_inverse_mass(int ring, const Vec3& arm, const Vec3& direction) const;
@@ -213,22 +232,29 @@ class TorusXpbdSim {
   std::vector<RingPair> hash_pairs_;
   std::vector<RingPairContact> link_pairs_, other_pairs_, previous_pairs_;
   // links in the order they are solved: outward from what holds the fabric up (pins, and rings
-  // that touched a collider in the last step), by breadth-first depth
+  // that touched a collider in the last step), by breadth-first depth; then split by part
   std::vector<int> link_order_;
-  std::vector<int> support_depth_;  // (n) links from the nearest support, -1 none
-  std::vector<int> queue_;          // (n) breadth-first scratch
-  std::vector<char> touching_;      // (n) 1: touched a collider in this step
-  std::vector<int> retry_;          // links solved once more in this substep
+  std::array<std::vector<int>, kParts + 1> part_links_;   // indices into link_pairs_
+  std::array<std::vector<int>, kParts + 1> part_others_;  // indices into other_pairs_
+  std::array<std::vector<int>, kParts> part_candidates_;  // indices into collider_candidates_
+  std::array<std::vector<int>, kParts> part_rings_;       // the rings of each half
+  std::vector<char> part_;                                // (n) the half of each ring
+  int threads_ = 1;
+  std::vector<int> support_depth_;                  // (n) links from the nearest support, -1 none
+  std::vector<int> queue_;                          // (n) breadth-first scratch
+  std::vector<char> touching_;                      // (n) 1: touched a collider in this step
+  std::array<std::vector<int>, kParts + 1> retry_;  // links solved once more in this substep
+  bool retrying_ = false;                           // any of them left
   // ring-ring corrections of the first pass are over-relaxed: one Gauss-Seidel pass a substep
   // leaves a hanging sheet's contacts short by a share of the weight below them, and 1.3 takes a
   // third of that off (rigid contacts overshoot into a gap, never into each other)
   static constexpr double kOverRelaxation = 1.3;
-  double relaxation_ = kOverRelaxation;
   std::vector<ColliderCandidate> collider_candidates_, previous_candidates_;
-  std::vector<ActiveContact> active_;
-  std::vector<VelocityTerms> velocity_terms_;  // (active contacts)
+  // contacts that pushed in this substep, by part
+  std::array<std::vector<ActiveContact>, kParts + 1> active_;
+  std::array<std::vector<VelocityTerms>, kParts + 1> velocity_terms_;  // (active contacts)
   std::uint64_t substep_ = 0;  // substeps taken, counting from 1: stamps the seeds' active contacts
-  std::vector<ColliderHold> collider_holds_;
+  std::array<std::vector<ColliderHold>, kParts> collider_holds_;
   std::vector<Mat3> rotation_;  // (n) each ring's orientation as a matrix, kept in step with it
   std::vector<Mat3> previous_rotation_;  // (n) the same at the substep's start
 };

@@ -50,16 +50,13 @@ void tangent_axes(const Vec3& n, Vec3& t1, Vec3& t2) {
 
 }  // namespace
 
-void TorusXpbdSim::solve_pairs(std::vector<RingPairContact>& pairs, double h, bool scan) {
-  for (RingPairContact& pair : pairs) solve_pair(pair, h, scan);
-}
-
 // one pair in one substep: new minima that could touch before the next scan are seeded (when
 // `scan`); then each seed that may touch in this substep is followed from its last angle (on the
 // pose the pair has then: the seeds before it may have pushed), and one closer than two wire
 // radii pushes the rings apart. A seed that cannot touch yet is not solved: its lower bound only
 // shrinks by the substep's motion, so it is solved again before it could touch.
-double TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan) {
+double TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan, int part,
+                                double relaxation) {
   const double a = model_.ring.wire_radius, c = model_.ring.centre_radius;
   // m, how much nearer the pair can come in a substep: its rings' own motion, and a margin for
   // what the contact solve moves them
@@ -122,7 +119,7 @@ double TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan) {
       // one contact per seed for the velocity pass: a retry adds its multiplier to the first's
       const int into = seed.pushed == substep_ ? seed.active : -1;
       seed.active = apply_contact(pair.a, pair.b, seed.normal, 0.5 * (p.first + p.second), depth,
-                                  model_.ring_friction, h, into);
+                                  model_.ring_friction, h, part, relaxation, into);
       seed.pushed = substep_;
       stale = true;
       deepest = std::max(deepest, depth);
@@ -183,10 +180,11 @@ void TorusXpbdSim::find_new_minima(RingPairContact& pair, const CirclePairDistan
 
 // each ring near a collider: the torus's deepest point, then four points of its centre circle
 // (a ring lying flat rests on all of them)
-void TorusXpbdSim::solve_colliders(double h, bool scan) {
-  auto scope = profile_.scope("colliders");
+void TorusXpbdSim::solve_colliders(double h, bool scan, int part) {
   const double a = model_.ring.wire_radius, c = model_.ring.centre_radius;
-  for (ColliderCandidate& candidate : collider_candidates_) {
+  std::vector<ActiveContact>& active = active_[part];
+  for (int index : part_candidates_[part]) {
+    ColliderCandidate& candidate = collider_candidates_[index];
     const int i = candidate.ring;
     const Collider& collider = model_.colliders[candidate.collider];
     const double friction = model_.collider_friction[candidate.collider];
@@ -195,7 +193,7 @@ void TorusXpbdSim::solve_colliders(double h, bool scan) {
       candidate.followed = false;
       continue;
     }
-    const std::size_t first = active_.size();
+    const std::size_t first = active.size();
     // from the last substep's deepest angle, from scratch at every scan
     const CirclePointContact deepest =
         candidate.followed && !scan
@@ -204,7 +202,7 @@ void TorusXpbdSim::solve_colliders(double h, bool scan) {
     candidate.cos_s = deepest.cos_s, candidate.sin_s = deepest.sin_s, candidate.followed = true;
     if (deepest.distance < a) {
       apply_contact(i, -1, deepest.normal, deepest.point - a * deepest.normal, a - deepest.distance,
-                    friction, h);
+                    friction, h, part);
       touching_[i] = 1;
     }
     for (const auto& angle : kSupport) {
@@ -212,22 +210,24 @@ void TorusXpbdSim::solve_colliders(double h, bool scan) {
                          c * (angle[0] * rotation_[i].col(0) + angle[1] * rotation_[i].col(2));
       Vec3 normal;
       const double distance = collider_distance(collider, point, normal);
-      if (distance < a) apply_contact(i, -1, normal, point - a * normal, a - distance, friction, h);
+      if (distance < a)
+        apply_contact(i, -1, normal, point - a * normal, a - distance, friction, h, part);
     }
-    merge_contacts(first, h);
+    merge_contacts(part, first, h);
   }
 }
 
 // the contacts of one ring with one collider since `first` become one for the velocity pass, at
 // their multiplier-weighted mean point and normal: one ring bounces off one surface once (points
 // bounced one after the other would each spin it, and a flat ring would leap)
-void TorusXpbdSim::merge_contacts(std::size_t first, double h) {
-  if (active_.size() <= first + 1) return;
-  ActiveContact merged = active_[first];
+void TorusXpbdSim::merge_contacts(int part, std::size_t first, double h) {
+  std::vector<ActiveContact>& active = active_[part];
+  if (active.size() <= first + 1) return;
+  ActiveContact merged = active[first];
   Vec3 arm = Vec3::Zero(), normal = Vec3::Zero();
   double lambda = 0.0, friction = 0.0;
-  for (std::size_t k = first; k < active_.size(); ++k) {
-    const ActiveContact& contact = active_[k];
+  for (std::size_t k = first; k < active.size(); ++k) {
+    const ActiveContact& contact = active[k];
     arm += contact.lambda * contact.arm_a;
     normal += contact.lambda * contact.normal;
     lambda += contact.lambda;
@@ -240,8 +240,8 @@ void TorusXpbdSim::merge_contacts(std::size_t first, double h) {
   merged.friction = friction;
   merged.w = generalized_inverse_mass(merged.a, merged.arm_a, merged.normal);
   merged.approach = merged.normal.dot(point_velocity(merged.a, merged.arm_a) - h * model_.gravity);
-  active_.resize(first);
-  if (merged.w > 0.0) active_.push_back(merged);
+  active.resize(first);
+  if (merged.w > 0.0) active.push_back(merged);
 }
 
 // one contact's positional correction along `normal` (pushing a; b = -1: a static collider),
@@ -249,7 +249,7 @@ void TorusXpbdSim::merge_contacts(std::size_t first, double h) {
 // with it when that takes less than friction times the normal multiplier. One correction of each
 // ring carries both.
 int TorusXpbdSim::apply_contact(int a, int b, const Vec3& normal, const Vec3& point, double depth,
-                                double friction, double h, int into) {
+                                double friction, double h, int part, double relaxation, int into) {
   const bool ring_b = b >= 0;
   const Vec3 arm_a = point - state_.position[a];
   const Vec3 arm_b = ring_b ? Vec3(point - state_.position[b]) : Vec3::Zero();
@@ -257,7 +257,7 @@ int TorusXpbdSim::apply_contact(int a, int b, const Vec3& normal, const Vec3& po
                    (ring_b ? generalized_inverse_mass(b, arm_b, normal) : 0.0);
   if (w <= 0.0) return -1;
   const double stiffness_term = model_.settings.compliance / (h * h);
-  const double lambda = (ring_b ? relaxation_ : 1.0) * depth / (w + stiffness_term);
+  const double lambda = relaxation * depth / (w + stiffness_term);
   Vec3 correction = lambda * normal;  // kg m, on a (b takes the opposite)
   bool stuck = false;
 
@@ -281,15 +281,18 @@ int TorusXpbdSim::apply_contact(int a, int b, const Vec3& normal, const Vec3& po
   // every contact that pushed meets dynamic friction in the velocity pass, held or not (it only
   // takes sliding speed away, never more than there is): a held contact's velocity still carries
   // the slip that the contacts solved after it brought
+  std::vector<ActiveContact>& active = active_[part];
   if (into >= 0) {
-    active_[into].lambda += lambda;
+    active[into].lambda += lambda;
   } else {
-    active_.push_back({a, b, normal, arm_a, arm_b, lambda, w, normal.dot(relative), friction});
-    into = static_cast<int>(active_.size()) - 1;
+    active.push_back({a, b, normal, arm_a, arm_b, lambda, w, normal.dot(relative), friction});
+    into = static_cast<int>(active.size()) - 1;
   }
   // a ring held by a collider's static friction is held again after the rings' own contacts
-  if (stuck && !ring_b)
-    collider_holds_.push_back({a, rotation_[a].transpose() * arm_a, normal, lambda, friction});
+  if (stuck && !ring_b) {
+    collider_holds_[part].push_back(
+        {a, rotation_[a].transpose() * arm_a, normal, lambda, friction});
+  }
   apply_correction(a, arm_a, correction);
   if (ring_b) apply_correction(b, arm_b, -correction);
   return into;
@@ -320,10 +323,9 @@ Vec3 TorusXpbdSim::static_friction(int a, const Vec3& arm_a, int b, const Vec3& 
 // static friction against the colliders once more, after the rings' contacts have moved the rings:
 // each held contact point's slip over the substep is undone again where friction can (otherwise
 // the rings' pull drags a sheet over a table a little every substep)
-void TorusXpbdSim::hold_collider_friction(double h) {
-  auto scope = profile_.scope("colliders");
+void TorusXpbdSim::hold_collider_friction(double h, int part) {
   const double stiffness_term = model_.settings.compliance / (h * h);
-  for (const ColliderHold& hold : collider_holds_) {
+  for (const ColliderHold& hold : collider_holds_[part]) {
     const int i = hold.ring;
     const Vec3 arm = rotation_[i] * hold.local_arm;
     Vec3 slip = state_.position[i] + arm - state_.previous_position[i] -
@@ -342,74 +344,80 @@ void TorusXpbdSim::hold_collider_friction(double h) {
 // speed what friction allows, at most friction times the normal impulse lambda / h over all the
 // passes, each part through the inverse mass along its own direction. One pass leaves the speeds
 // the later contacts gave the earlier ones: a sheet draped over a table creeps off it.
-void TorusXpbdSim::velocity_pass(double h) {
-  auto scope = profile_.scope("velocity_pass");
-  const double resting = 2.0 * model_.gravity.norm() * h;  // m/s, slower contacts do not bounce
-  const double inv_h = 1.0 / h;                            // 1/s
-  // the rings' poses do not change in the pass: what the inverse masses along a direction need
-  // from each ring's rotation, once per contact
-  velocity_terms_.resize(active_.size());
-  for (std::size_t k = 0; k < active_.size(); ++k) {
-    const ActiveContact& contact = active_[k];
-    VelocityTerms& terms = velocity_terms_[k];
+// (The passes alternate between the halves, side by side, and the seam between them.)
+//
+// first, what the inverse masses along a direction need from each ring's rotation, once per
+// contact: the rings' poses do not change in the pass
+void TorusXpbdSim::prepare_velocity_pass(int part) {
+  const std::vector<ActiveContact>& active = active_[part];
+  std::vector<VelocityTerms>& velocity_terms = velocity_terms_[part];
+  velocity_terms.resize(active.size());
+  for (std::size_t k = 0; k < active.size(); ++k) {
+    const ActiveContact& contact = active[k];
+    VelocityTerms& terms = velocity_terms[k];
     terms.a = ring_terms(contact.a, contact.arm_a);
     if (contact.b >= 0) terms.b = ring_terms(contact.b, contact.arm_b);
     terms.inverse_w = 1.0 / contact.w;
   }
-  for (int iteration = 0; iteration < model_.settings.velocity_iterations; ++iteration) {
-    for (std::size_t k = 0; k < active_.size(); ++k) {
-      ActiveContact& contact = active_[k];
-      const VelocityTerms& terms = velocity_terms_[k];
-      const bool ring_b = contact.b >= 0;
-      Vec3 relative = point_velocity(contact.a, contact.arm_a);
-      if (ring_b) relative -= point_velocity(contact.b, contact.arm_b);
-      const Vec3& n = contact.normal;
-      const double normal_speed = n.dot(relative);
-      const double e = std::abs(normal_speed) <= resting ? 0.0 : model_.settings.restitution;
-      Vec3 impulse = ((std::max(-e * contact.approach, 0.0) - normal_speed) * terms.inverse_w) * n;
-      const Vec3 sliding = relative - normal_speed * n;
-      // takes from the sliding speed along one unit tangent what is left of friction's budget
-      const auto slow = [&](const Vec3& tangent, double speed, double& spent) {
-        const double wt =
-            inverse_mass_along(contact.a, contact.arm_a, terms.a, tangent) +
-            (ring_b ? inverse_mass_along(contact.b, contact.arm_b, terms.b, tangent) : 0.0);
-        if (wt <= 0.0) return;
-        const double budget = contact.friction * contact.lambda * inv_h - spent;
-        const double taken = std::min(budget, std::abs(speed) / wt);
-        if (taken <= 0.0) return;
-        spent += taken;
-        impulse -= std::copysign(taken, speed) * tangent;
-      };
-      if (contact.friction > 0.0 && model_.settings.friction_pyramid) {
-        Vec3 t1, t2;
-        tangent_axes(n, t1, t2);
-        slow(t1, sliding.dot(t1), contact.spent[0]);
-        slow(t2, sliding.dot(t2), contact.spent[1]);
-      } else if (contact.friction > 0.0) {
-        // the cone, along the slide itself: the inverse mass along it times slide^2 needs no
-        // square root, so that the common case, a slide friction stops, waits on none
-        const double slide2 = sliding.squaredNorm();
-        const double w_slide2 =
-            inverse_mass_along(contact.a, contact.arm_a, terms.a, sliding, slide2) +
-            (ring_b ? inverse_mass_along(contact.b, contact.arm_b, terms.b, sliding, slide2) : 0.0);
-        const double budget = contact.friction * contact.lambda * inv_h - contact.spent[0];
-        if (slide2 > 0.0 && w_slide2 > 0.0 && budget > 0.0) {
-          const double stop =
-              slide2 / w_slide2;  // kg: the impulse per m/s of sliding that stops it
-          const double slide = std::sqrt(slide2);  // m/s
-          const double needed = slide * stop;      // kg m/s
-          if (needed <= budget) {
-            impulse -= stop * sliding;
-            contact.spent[0] += needed;
-          } else {
-            impulse -= (budget / slide) * sliding;
-            contact.spent[0] += budget;
-          }
+}
+
+// one Gauss-Seidel pass over one part's contacts
+void TorusXpbdSim::velocity_sweep(double h, int part) {
+  const double resting = 2.0 * model_.gravity.norm() * h;  // m/s, slower contacts do not bounce
+  const double inv_h = 1.0 / h;                            // 1/s
+  std::vector<ActiveContact>& active = active_[part];
+  const std::vector<VelocityTerms>& velocity_terms = velocity_terms_[part];
+  for (std::size_t k = 0; k < active.size(); ++k) {
+    ActiveContact& contact = active[k];
+    const VelocityTerms& terms = velocity_terms[k];
+    const bool ring_b = contact.b >= 0;
+    Vec3 relative = point_velocity(contact.a, contact.arm_a);
+    if (ring_b) relative -= point_velocity(contact.b, contact.arm_b);
+    const Vec3& n = contact.normal;
+    const double normal_speed = n.dot(relative);
+    const double e = std::abs(normal_speed) <= resting ? 0.0 : model_.settings.restitution;
+    Vec3 impulse = ((std::max(-e * contact.approach, 0.0) - normal_speed) * terms.inverse_w) * n;
+    const Vec3 sliding = relative - normal_speed * n;
+    // takes from the sliding speed along one unit tangent what is left of friction's budget
+    const auto slow = [&](const Vec3& tangent, double speed, double& spent) {
+      const double wt =
+          inverse_mass_along(contact.a, contact.arm_a, terms.a, tangent) +
+          (ring_b ? inverse_mass_along(contact.b, contact.arm_b, terms.b, tangent) : 0.0);
+      if (wt <= 0.0) return;
+      const double budget = contact.friction * contact.lambda * inv_h - spent;
+      const double taken = std::min(budget, std::abs(speed) / wt);
+      if (taken <= 0.0) return;
+      spent += taken;
+      impulse -= std::copysign(taken, speed) * tangent;
+    };
+    if (contact.friction > 0.0 && model_.settings.friction_pyramid) {
+      Vec3 t1, t2;
+      tangent_axes(n, t1, t2);
+      slow(t1, sliding.dot(t1), contact.spent[0]);
+      slow(t2, sliding.dot(t2), contact.spent[1]);
+    } else if (contact.friction > 0.0) {
+      // the cone, along the slide itself: the inverse mass along it times slide^2 needs no
+      // square root, so that the common case, a slide friction stops, waits on none
+      const double slide2 = sliding.squaredNorm();
+      const double w_slide2 =
+          inverse_mass_along(contact.a, contact.arm_a, terms.a, sliding, slide2) +
+          (ring_b ? inverse_mass_along(contact.b, contact.arm_b, terms.b, sliding, slide2) : 0.0);
+      const double budget = contact.friction * contact.lambda * inv_h - contact.spent[0];
+      if (slide2 > 0.0 && w_slide2 > 0.0 && budget > 0.0) {
+        const double stop = slide2 / w_slide2;   // kg: the impulse per m/s of sliding that stops it
+        const double slide = std::sqrt(slide2);  // m/s
+        const double needed = slide * stop;      // kg m/s
+        if (needed <= budget) {
+          impulse -= stop * sliding;
+          contact.spent[0] += needed;
+        } else {
+          impulse -= (budget / slide) * sliding;
+          contact.spent[0] += budget;
         }
       }
-      apply_impulse(contact.a, contact.arm_a, terms.a, impulse);
-      if (ring_b) apply_impulse(contact.b, contact.arm_b, terms.b, -impulse);
     }
+    apply_impulse(contact.a, contact.arm_a, terms.a, impulse);
+    if (ring_b) apply_impulse(contact.b, contact.arm_b, terms.b, -impulse);
   }
 }
 

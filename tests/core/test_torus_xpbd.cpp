@@ -224,6 +224,46 @@ TEST(TorusXpbd, TheSameSceneGivesTheSameHash) {
   EXPECT_EQ(frame_hash(frame), end);
 }
 
+TEST(TorusXpbd, OneAndTwoThreadsGiveTheSameHash) {
+  // a 10 x 10 sheet (enough rings for two threads) dropped on a sphere: collider contacts, links
+  // across both halves and the seam, and pairs found by self-contact
+  const json document = {
+      {"name", "drop"},
+      {"weave",
+       {{"type", "4in1"}, {"rows", 10}, {"cols", 10}, {"plane", "xz"}, {"center", {0, 0.03, 0}}}},
+      {"colliders", {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 0.02}}}},
+      {"features", {{"self_contact", true}}},
+      {"duration", 1.0}};
+  Sim one(document, TorusXpbdSettings{}), two(document, TorusXpbdSettings{});
+  two.sim.set_threads(2);
+  // the halves split the sheet evenly
+  const std::vector<char>& part = one.sim.ring_part();
+  EXPECT_EQ(std::count(part.begin(), part.end(), 1), one.weave.size() / 2);
+  one.advance(0.15);
+  two.advance(0.15);
+  RingFrame first, second;
+  one.sim.frame(first);
+  two.sim.frame(second);
+  EXPECT_EQ(frame_hash(first), frame_hash(second));
+  EXPECT_FALSE(one.sim.other_pairs().empty());
+  // it fell onto the sphere and lies on it
+  EXPECT_LT(first.position.row(1).maxCoeff(), 0.03);
+  EXPECT_GT(first.position.row(1).maxCoeff(), 0.02);
+}
+
+TEST(TorusXpbd, AHangingSheetSplitsIntoHalvesThatEachHoldTheirShareOfThePins) {
+  const Scene scene = load_scene_file(CHAINMAIL_SOURCE_DIR "/bench/scenes/curtain.json",
+                                      {"weave.rows=8", "weave.cols=8"});
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  TorusXpbdSim sim;
+  sim.reset(scene, weave, TorusXpbdSettings{});
+  int pinned[2] = {0, 0};
+  for (int i = 0; i < weave.size(); ++i)
+    if (sim.model().inverse_mass[i] == 0.0) ++pinned[static_cast<int>(sim.ring_part()[i])];
+  EXPECT_GT(pinned[0], 0);
+  EXPECT_LE(std::abs(pinned[0] - pinned[1]), 1);
+}
+
 TEST(TorusXpbd, FallingChainsPileUpWithoutPassingThroughThemselves) {
   // the bench's chain pile at several lengths: the chain's end hits the floor at 1.5 m/s and the
   // rest folds onto it; every link must stay linked and no other pair may become linked

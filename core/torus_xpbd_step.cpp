@@ -1,0 +1,166 @@
+// The rigid-torus XPBD model's step: its substeps, each phase solving the two halves side by side
+// and then the seam between them (torus_xpbd.hpp), and the link passes of the contact phase.
+#include <algorithm>
+#include <cmath>
+
+#include "core/parallel.hpp"
+#include "core/torus_xpbd.hpp"
+
+#if defined(CHAINMAIL_HAS_OPENMP)
+#include <omp.h>
+#endif
+
+namespace chainmail {
+namespace {
+
+// substeps between scans of a pair for new minima (the seeds are followed in every substep)
+constexpr int kScanInterval = 4;
+// the most substeps a fast step may take
+constexpr int kMaxSubsteps = 2000;
+// fewer rings than this step on one thread: the halves' hand-overs would cost more than they save
+constexpr int kThreadedRings = 64;
+// a link that pushed deeper than this (in wire radii) in a substep is solved again, up to this many
+// more passes
+constexpr double kRetryDepth = 0.003;
+constexpr int kRetryPasses = 4;
+
+// this thread's number in its team (0 outside one)
+int team_thread() {
+#if defined(CHAINMAIL_HAS_OPENMP)
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
+
+// every thread of the team waits here for the others (nothing on one thread)
+void team_barrier(int team) {
+  if (team > 1) {
+#pragma omp barrier
+  }
+}
+
+}  // namespace
+
+bool TorusXpbdSim::step(double dt) {
+  collect_pairs(dt);
+  // enough substeps that two rings close in by at most a wire radius in one: wires cannot pass
+  // through each other between two contact solves, however fast the rings fly
+  const double travel = 2.0 * fastest_ * dt / model_.ring.wire_radius;
+  const int substeps =
+      std::max(model_.settings.substeps,
+               static_cast<int>(std::min(std::ceil(travel), double{kMaxSubsteps})));
+  const double h = dt / substeps;
+  const int team = parallel_loops_available() && static_cast<int>(part_.size()) >= kThreadedRings
+                       ? std::min(threads_, kParts)
+                       : 1;
+#pragma omp parallel num_threads(team) if (team > 1)
+  run_substeps(h, substeps, team);
+  if (model_.settings.sleeping) update_sleep(dt);
+  state_.t += dt;
+  return finite();
+}
+
+// the substeps, on each thread of the team: every phase solves the halves (both on one thread, one
+// each on two) and then, on the first thread, the contacts between them. Every thread meets every
+// barrier: the loops' trip counts come from state the phase before left.
+void TorusXpbdSim::run_substeps(double h, int substeps, int team) {
+  const int thread = team > 1 ? team_thread() : 0;
+  const bool lead = thread == 0;  // keeps the profile, solves the seam
+  const auto each_half = [&](const auto& solve) {
+    for (int part = 0; part < kParts; ++part)
+      if (team == 1 || part == thread) solve(part);
+    team_barrier(team);
+  };
+  const auto seam = [&](const auto& solve) {
+    if (lead) solve(kSeam);
+    team_barrier(team);
+  };
+  const auto halves_then_seam = [&](const auto& solve) {
+    each_half(solve);
+    seam(solve);
+  };
+  for (int k = 0; k < substeps; ++k) {
+    const bool scan = k % kScanInterval == 0;
+    {
+      auto scope = profile_.scope_if(lead, "integrate");
+      each_half([&](int part) {
+        if (part == 0) active_[kSeam].clear(), ++substep_;  // the lead's: read after the barrier
+        active_[part].clear();
+        collider_holds_[part].clear();
+        integrate(h, part);
+      });
+    }
+    // colliders first: the rings' own contacts then see where the colliders put them
+    if (!collider_candidates_.empty()) {
+      auto scope = profile_.scope_if(lead, "colliders");
+      each_half([&](int part) { solve_colliders(h, scan, part); });
+    }
+    {
+      auto scope = profile_.scope_if(lead, "contacts");
+      // the links in their order, then again those that pushed deep or hold a ring against a
+      // collider: one Gauss-Seidel pass leaves a link carrying much of a sheet's weight (a corner
+      // that holds half of it, a ring pressed between a collider and the rings it carries) short
+      // by a share of that weight
+      // (whether any link is left is the lead's to say, in the seam's phase: the halves' lists
+      // change again once both threads have read it)
+      const auto links = [&](bool first) {
+        each_half([&](int part) { solve_links(h, scan, part, first); });
+        seam([&](int part) {
+          solve_links(h, scan, part, first);
+          retrying_ = !(retry_[0].empty() && retry_[1].empty() && retry_[kSeam].empty());
+        });
+      };
+      links(true);
+      for (int pass = 0; pass < kRetryPasses && retrying_; ++pass) links(false);
+      if (!other_pairs_.empty()) {
+        auto others = profile_.scope_if(lead, "self_contact");
+        halves_then_seam([&](int part) { solve_other_pairs(h, scan, part); });
+      }
+    }
+    if (!collider_candidates_.empty()) {
+      auto scope = profile_.scope_if(lead, "colliders");
+      each_half([&](int part) { hold_collider_friction(h, part); });
+    }
+    {
+      auto scope = profile_.scope_if(lead, "velocities");
+      each_half([&](int part) { update_velocities(h, part); });
+    }
+    auto scope = profile_.scope_if(lead, "velocity_pass");
+    halves_then_seam([&](int part) { prepare_velocity_pass(part); });
+    for (int iteration = 0; iteration < model_.settings.velocity_iterations; ++iteration)
+      halves_then_seam([&](int part) { velocity_sweep(h, part); });
+  }
+}
+
+// one part's links in their order (first: over-relaxed, every link), or again those that pushed
+// deep or hold a ring against a collider (the later passes are not over-relaxed: they correct
+// what is left, not a whole load)
+void TorusXpbdSim::solve_links(double h, bool scan, int part, bool first) {
+  const double deep = kRetryDepth * model_.ring.wire_radius;  // m
+  const auto again = [&](const RingPairContact& pair, double depth) {
+    return depth > deep || touching_[pair.a] || touching_[pair.b];
+  };
+  std::vector<int>& retry = retry_[part];
+  if (first) {
+    retry.clear();
+    for (int index : part_links_[part]) {
+      RingPairContact& pair = link_pairs_[index];
+      if (again(pair, solve_pair(pair, h, scan, part, kOverRelaxation))) retry.push_back(index);
+    }
+    return;
+  }
+  std::size_t kept = 0;
+  for (int index : retry) {
+    RingPairContact& pair = link_pairs_[index];
+    if (again(pair, solve_pair(pair, h, false, part, 1.0))) retry[kept++] = index;
+  }
+  retry.resize(kept);
+}
+
+void TorusXpbdSim::solve_other_pairs(double h, bool scan, int part) {
+  for (int index : part_others_[part])
+    solve_pair(other_pairs_[index], h, scan, part, kOverRelaxation);
+}
+
+}  // namespace chainmail
