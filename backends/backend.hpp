@@ -44,6 +44,7 @@ struct BackendInfo {
   // tests check every backend's table through the registry
   std::function<Knobs(const Knobs&)> knob_round_trip;
   bool cloth_surface = false;  // its rings stand for a cloth surface: drawn as a textured mesh
+  bool multithreaded = false;  // its step runs on the threads set_threads gives it
   // rough costs at default knobs, measured on a 2-core machine, for the up-front estimate that
   // refuses runs too large for the budget and announces long reference runs
   double cost_us_per_ring_step = 1.0;  // wall microseconds per ring per step
@@ -80,7 +81,7 @@ const std::deque<BackendInfo>& backend_registry();
 // registered ones
 const std::vector<std::string>& known_backend_names();
 bool backend_known(const std::string& name);
-bool backend_built(const std::string& name);                // known and built into this binary
+bool backend_built(const std::string& name);  // known and built into this binary
 // names of backend_registry(), in its order
 std::vector<std::string> built_backend_names();
 // known to the project but not built into this binary (CHAINMAIL_WITH_BULLET=OFF, ...)

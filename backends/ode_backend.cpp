@@ -88,8 +88,7 @@ void OdeBackend::reset(const Scene& scene, const Weave& weave, const Knobs& knob
   failed_ = false;
 
   build_world(scene, weave);
-  build_rings(weave, resolve_pins(scene, weave), ring_masses(scene, weave),
-              scene.initial_velocity);
+  build_rings(weave, resolve_pins(scene, weave), ring_masses(scene, weave), scene.initial_velocity);
   build_colliders(scene);
 }
 
@@ -165,8 +164,7 @@ int OdeBackend::sweep_axes(const Weave& weave) {
     extent = weave.rest_position.rowwise().maxCoeff() - weave.rest_position.rowwise().minCoeff();
   }
   std::array<int, 3> order = {0, 1, 2};
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int i, int j) { return extent[i] > extent[j]; });
+  std::stable_sort(order.begin(), order.end(), [&](int i, int j) { return extent[i] > extent[j]; });
   return order[0] | (order[1] << 2) | (order[2] << 4);  // the dSAP_AXES_* encoding
 }
 

@@ -27,8 +27,8 @@ void OdeBackend::solver_step(double h) {
   }
   if (has_colliders_) {
     auto scope = profile_.scope("colliders");
-    dSpaceCollide2(reinterpret_cast<dGeomID>(ring_space_),
-                   reinterpret_cast<dGeomID>(static_space_), this, &OdeBackend::near_callback);
+    dSpaceCollide2(reinterpret_cast<dGeomID>(ring_space_), reinterpret_cast<dGeomID>(static_space_),
+                   this, &OdeBackend::near_callback);
   }
   {
     auto scope = profile_.scope("solve");
@@ -102,9 +102,8 @@ void OdeBackend::collide_rings(int first, int second) {
 // touch: keep the deepest contact of every cluster closer than half a wire radius. Redundant
 // rows only slow QuickStep down and make its forces jitter.
 void OdeBackend::merge_duplicate_contacts(std::vector<dContactGeom>& contacts) const {
-  std::stable_sort(
-      contacts.begin(), contacts.end(),
-      [](const dContactGeom& x, const dContactGeom& y) { return x.depth > y.depth; });
+  std::stable_sort(contacts.begin(), contacts.end(),
+                   [](const dContactGeom& x, const dContactGeom& y) { return x.depth > y.depth; });
   const double radius2 = 0.25 * wire_radius_internal_ * wire_radius_internal_;
   std::size_t kept = 0;
   for (std::size_t k = 0; k < contacts.size(); ++k) {

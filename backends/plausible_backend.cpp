@@ -94,6 +94,7 @@ BackendInfo plausible_backend_info() {
   BackendInfo info;
   info.name = "plausible";
   info.cost_us_per_ring_step = 12.0;
+  info.multithreaded = true;
   info.bytes_per_ring = 1000;
   info.summary = "the paper's mass-per-ring model: Provot edge constraints, repulsion, swivel";
   info.knobs = plausible_knobs().specs();

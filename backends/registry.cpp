@@ -99,8 +99,9 @@ bool plain_word(const std::string& name) {
 
 void check_new_name(const std::string& name) {
   if (!plain_word(name) || name == "all" || name == "none") {
-    refuse(name, "a name is a word of lowercase letters, digits and '_' starting with a letter, "
-                 "and not 'all' or 'none'");
+    refuse(name,
+           "a name is a word of lowercase letters, digits and '_' starting with a letter, "
+           "and not 'all' or 'none'");
   }
   if (backend_known(name)) {
     refuse(name, std::string("the name is taken") +
@@ -142,16 +143,22 @@ void register_backend(BackendInfo info) {
   r.built.push_back(std::move(info));
 }
 
-const std::deque<BackendInfo>& backend_registry() { return registry().built; }
+const std::deque<BackendInfo>& backend_registry() {
+  return registry().built;
+}
 
-const std::vector<std::string>& known_backend_names() { return registry().known; }
+const std::vector<std::string>& known_backend_names() {
+  return registry().known;
+}
 
 bool backend_known(const std::string& name) {
   const auto& known = known_backend_names();
   return std::find(known.begin(), known.end(), name) != known.end();
 }
 
-bool backend_built(const std::string& name) { return find_backend(name) != nullptr; }
+bool backend_built(const std::string& name) {
+  return find_backend(name) != nullptr;
+}
 
 const BackendInfo* find_backend(const std::string& name) {
   for (const auto& info : backend_registry()) {
@@ -195,8 +202,8 @@ std::vector<std::string> validate_backend_knobs(const Scene& scene) {
   std::vector<std::string> notes;
   for (const auto& [name, section] : scene.backends) {
     if (!backend_known(name)) {
-      throw SceneError(scene.file + ": key 'backends." + name + "': unknown backend (known: " +
-                       join_names(known_backend_names()) + ")");
+      throw SceneError(scene.file + ": key 'backends." + name +
+                       "': unknown backend (known: " + join_names(known_backend_names()) + ")");
     }
     if (const BackendInfo* info = find_backend(name)) {
       resolve_knobs(scene, *info);

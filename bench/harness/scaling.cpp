@@ -125,9 +125,10 @@ std::string markdown(const std::vector<ScalingCell>& cells, const ScalingPlan& p
   std::snprintf(line, sizeof line,
                 "The curtain (4-in-1, hung from its top edge, self-contact on, each "
                 "backend's default dt) for %.2g s at each size; ms per step counts `step()` only, "
-                "the median of %d runs for plausible, taken in turn on each thread count. Same "
-                "hash: every run of plausible at that "
-                "size, on any thread count, ended on the same final-state hash.\n\n",
+                "the median of %d runs for plausible, taken in turn on each thread count (one "
+                "run for the others; on 1 and 2 threads where the backend steps on several). "
+                "Same hash: every run of the backend at that size, on any thread count, ended on "
+                "the same final-state hash.\n\n",
                 plan.duration, plan.repeats);
   md << line
      << "| backend | rings | threads | ms/step | µs per ring-step | real-time factor | speed-up "
@@ -183,7 +184,7 @@ std::string run_scaling(const ScalingPlan& plan, const std::string& scenes,
       const double dt = resolve_knobs(scene, info).at("dt");
       if (!plausible && estimated_seconds(info, scene, dt) > plan.budget_s) continue;
       const std::vector<ScalingCell> measured =
-          measure(scene, name, plausible ? plan.threads : std::vector<int>{1},
+          measure(scene, name, info.multithreaded ? plan.threads : std::vector<int>{1},
                   plausible ? plan.repeats : 1, progress);
       cells.insert(cells.end(), measured.begin(), measured.end());
     }

@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "backends/backend.hpp"
 #include "bench/harness/bench_suite.hpp"
 #include "bench/harness/budget.hpp"
 #include "bench/harness/commands.hpp"
@@ -65,6 +66,23 @@ TEST(Scaling, TableHasEverySizeOnEachThreadCountWithOneHashPerSize) {
   }
   EXPECT_EQ(rows, 4);
   for (const auto& [side, found] : hashes) EXPECT_EQ(found.size(), 1u) << side;
+  fs::remove_all(out);
+}
+
+TEST(Scaling, BackendsThatStepOnSeveralThreadsGetARowPerThreadCount) {
+  // torus_xpbd steps on the threads it is given, massspring on one
+  ASSERT_TRUE(find_backend("torus_xpbd")->multithreaded);
+  ASSERT_FALSE(find_backend("massspring")->multithreaded);
+  const fs::path out = fs::temp_directory_path() / "chainmail_test_scaling_threads";
+  fs::remove_all(out);
+  fs::create_directories(out);
+  ScalingPlan plan = scaling_plan(true, 4);
+  const std::string table = run_scaling(plan, CHAINMAIL_SOURCE_DIR "/bench/scenes",
+                                        {"torus_xpbd", "massspring"}, out.string(), false);
+  EXPECT_NE(table.find("| torus_xpbd | 4 × 4 | 1 |"), std::string::npos) << table;
+  EXPECT_NE(table.find("| torus_xpbd | 4 × 4 | 2 |"), std::string::npos) << table;
+  EXPECT_NE(table.find("| massspring | 4 × 4 | 1 |"), std::string::npos) << table;
+  EXPECT_EQ(table.find("| massspring | 4 × 4 | 2 |"), std::string::npos) << table;
   fs::remove_all(out);
 }
 
