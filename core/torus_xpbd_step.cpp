@@ -24,12 +24,19 @@ constexpr int kThreadedRings = 64;
 constexpr double kRetryDepth = 0.003;
 constexpr int kRetryPasses = 4;
 
-// this thread's number in its team (0 outside one)
+// this thread's number in its team (0 outside one), and the team's size
 int team_thread() {
 #if defined(CHAINMAIL_HAS_OPENMP)
   return omp_get_thread_num();
 #else
   return 0;
+#endif
+}
+int team_size() {
+#if defined(CHAINMAIL_HAS_OPENMP)
+  return omp_get_num_threads();
+#else
+  return 1;
 #endif
 }
 
@@ -55,7 +62,7 @@ bool TorusXpbdSim::step(double dt) {
                        ? std::min(threads_, kParts)
                        : 1;
 #pragma omp parallel num_threads(team) if (team > 1)
-  run_substeps(h, substeps, team);
+  run_substeps(h, substeps, team > 1 ? team_size() : 1);  // OpenMP may give fewer than asked
   if (model_.settings.sleeping) update_sleep(dt);
   state_.t += dt;
   return finite();
