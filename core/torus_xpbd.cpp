@@ -101,8 +101,8 @@ void TorusXpbdSim::split_rings(const Scene& scene, const Weave& weave) {
   if (scene.gravity.squaredNorm() > 0.0) scene.gravity.cwiseAbs().maxCoeff(&down);
   int axis = 0;
   double widest = -1.0;
-  for (int k = 0; k < 3; ++k) {
-    if (k == down || n == 0) continue;
+  for (int k = 0; k < 3 && n > 0; ++k) {
+    if (k == down) continue;
     const double extent =
         weave.rest_position.row(k).maxCoeff() - weave.rest_position.row(k).minCoeff();
     if (extent > widest) widest = extent, axis = k;
@@ -136,9 +136,6 @@ void TorusXpbdSim::reset_scratch() {
   }
   link_order_.resize(link_pairs_.size());
   for (std::size_t k = 0; k < link_order_.size(); ++k) link_order_[k] = static_cast<int>(k);
-  for (auto& links : part_links_) links.clear();
-  for (auto& others : part_others_) others.clear();
-  for (auto& candidates : part_candidates_) candidates.clear();
   support_depth_.assign(n, -1);
   queue_.reserve(n);
   touching_.assign(n, 0);

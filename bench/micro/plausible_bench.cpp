@@ -8,6 +8,7 @@
 #include <benchmark/benchmark.h>
 
 #include "bench/harness/scene_file.hpp"
+#include "bench/micro/stage_counters.hpp"
 #include "core/plausible.hpp"
 #include "core/weave.hpp"
 
@@ -34,9 +35,7 @@ void BM_PlausibleCurtain(benchmark::State& bench) {
   // one iteration (see below): the profile covers exactly the timed steps. Stages can nest (the
   // colliders inside integrate, where a ring starts a step inside one): the total is timed, not
   // summed from them
-  for (const auto& [stage, stats] : sim.profile().stages()) {
-    bench.counters[stage + "_ms"] = 1e3 * stats.seconds / steps;
-  }
+  add_stage_counters(bench, StageProfile{}, sim.profile(), steps);
   bench.counters["ms_per_step"] = 1e3 * total_s / steps;
   bench.counters["realtime_factor"] = dt * steps / total_s;
   bench.counters["contact_rebuilds"] = static_cast<double>(sim.state().contact_rebuilds);

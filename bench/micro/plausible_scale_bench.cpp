@@ -3,12 +3,12 @@
 // for 0.1 s from the layout, untimed, so the timed steps see links taut and rings moving; each
 // iteration then times 10 steps. Counters: ms per step in all and per stage, and the state hash
 // (the same on any thread count).
-#include <cstdint>
 #include <string>
 
 #include <benchmark/benchmark.h>
 
 #include "bench/harness/scene_file.hpp"
+#include "bench/micro/stage_counters.hpp"
 #include "core/plausible.hpp"
 #include "core/weave.hpp"
 
@@ -19,9 +19,9 @@ using namespace chainmail;
 void BM_PlausibleLargeCurtain(benchmark::State& bench) {
   const int side = 256;
   const int threads = static_cast<int>(bench.range(0));
-  const Scene scene = load_scene_file(
-      CHAINMAIL_SOURCE_DIR "/bench/scenes/curtain.json",
-      {"weave.rows=" + std::to_string(side), "weave.cols=" + std::to_string(side)});
+  const Scene scene =
+      load_scene_file(CHAINMAIL_SOURCE_DIR "/bench/scenes/curtain.json",
+                      {"weave.rows=" + std::to_string(side), "weave.cols=" + std::to_string(side)});
   const Weave weave = make_weave(scene.weave, scene.ring);
   const double dt = 0.004;  // the backend's default
   PlausibleSim sim;
@@ -35,21 +35,15 @@ void BM_PlausibleLargeCurtain(benchmark::State& bench) {
     for (int s = 0; s < kSteps; ++s) sim.step(dt);
     timed += kSteps;
   }
-  // the stages over the timed steps only: the profile's growth since the settling
-  double total_s = 0.0;
-  for (const auto& [stage, stats] : sim.profile().stages()) {
-    const auto old = before.stages().find(stage);
-    const double seconds = stats.seconds - (old == before.stages().end() ? 0.0 : old->second.seconds);
-    bench.counters[stage + "_ms"] = 1e3 * seconds / static_cast<double>(timed);
-    total_s += seconds;  // no collider: no stage is nested in another
-  }
+  // the stages over the timed steps only: the profile's growth since the settling (no collider:
+  // no stage is nested in another, so they sum to the step)
+  const double total_s = add_stage_counters(bench, before, sim.profile(), timed);
   bench.counters["ms_per_step"] = 1e3 * total_s / static_cast<double>(timed);
   bench.counters["realtime_factor"] = dt * static_cast<double>(timed) / total_s;
   bench.counters["max_over_extension"] = sim.max_over_extension();
   RingFrame frame;
   sim.frame(frame);
-  // the hash's low 48 bits (a counter is a double): equal across the thread counts
-  bench.counters["hash48"] = static_cast<double>(frame_hash(frame) & 0xffffffffffffull);
+  add_hash_counter(bench, frame);  // equal across the thread counts
 }
 
 }  // namespace

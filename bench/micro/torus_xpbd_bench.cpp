@@ -4,12 +4,12 @@
 // ms per step (`self_contact` is part of `contacts`), and the state hash (the same on any thread
 // count).
 #include <chrono>
-#include <cstdint>
 #include <string>
 
 #include <benchmark/benchmark.h>
 
 #include "bench/harness/scene_file.hpp"
+#include "bench/micro/stage_counters.hpp"
 #include "core/torus_xpbd.hpp"
 #include "core/weave.hpp"
 
@@ -38,18 +38,12 @@ void BM_TorusXpbdCurtain(benchmark::State& bench) {
     timed += kSteps;
   }
   // the stages over the timed steps only: the profile's growth since the settling
-  for (const auto& [stage, stats] : sim.profile().stages()) {
-    const auto old = before.stages().find(stage);
-    const double seconds =
-        stats.seconds - (old == before.stages().end() ? 0.0 : old->second.seconds);
-    bench.counters[stage + "_ms"] = 1e3 * seconds / static_cast<double>(timed);
-  }
+  add_stage_counters(bench, before, sim.profile(), timed);
   bench.counters["ms_per_step"] = 1e3 * wall_s / static_cast<double>(timed);
   bench.counters["ms_per_simulated_s"] = wall_s / (dt * static_cast<double>(timed)) * 1e3;
   RingFrame frame;
   sim.frame(frame);
-  // the hash's low 48 bits (a counter is a double): equal across the thread counts
-  bench.counters["hash48"] = static_cast<double>(frame_hash(frame) & 0xffffffffffffull);
+  add_hash_counter(bench, frame);  // equal across the thread counts
 }
 
 }  // namespace
