@@ -90,6 +90,7 @@ CirclePairDistance::Slope CirclePairDistance::slope(double c, double s) const {
 // Newton on f' with two safeguards: where f is not convex (or on the first circle's axis, a cusp
 // that is a maximum of f) walk a quarter radian downhill, and halve any step that makes f grow
 void CirclePairDistance::newton(double& c, double& s, int max_steps, double tolerance) const {
+  if (max_steps <= 0) return;
   Slope at = slope(c, s);
   for (int k = 0; k < max_steps; ++k) {
     double step;

@@ -82,7 +82,8 @@ class CirclePairDistance {
 };
 
 // the local minimum of the distance nearest downhill from the second circle's angle
-// (cos_t, sin_t); stops when a Newton step is below `tolerance` rad or after `max_steps` steps.
+// (cos_t, sin_t); stops when a Newton step is below `tolerance` rad or after `max_steps` steps
+// (0: the points at the start angle, an upper bound of the minimum's distance).
 // Degenerate pairs are exact too: coaxial circles (every angle a minimum) keep the start angle;
 // a point of the second circle on the first one's axis (every point of the first equally near)
 // takes the first circle's angle 0.

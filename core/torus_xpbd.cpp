@@ -4,11 +4,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "core/torus_colliders.hpp"
 
 namespace chainmail {
 namespace {
+
+// the velocity passes after the first solve the contacts within this many links of a ring that
+// touches a collider (table_cloth's drape from Bullet's, 16 x 16, 1 s: 1.70 mm with every contact
+// in all 8 passes, 1.96 with only the touching rings', 1.74 with 1 link, 1.74 with 2)
+constexpr int kVelocityReach = 2;
 
 // sleeping: a ring whose points all move slower than this for kSleepDelay is put to sleep
 constexpr double kSleepSpeed = 1e-3;  // m/s
@@ -137,6 +143,8 @@ void TorusXpbdSim::reset_scratch() {
   link_order_.resize(link_pairs_.size());
   for (std::size_t k = 0; k < link_order_.size(); ++k) link_order_[k] = static_cast<int>(k);
   support_depth_.assign(n, -1);
+  near_collider_.assign(n, 0);
+  scan_spacing_ = model_.ring.centre_radius * std::numbers::pi / CirclePairDistance::kSamples;
   queue_.reserve(n);
   touching_.assign(n, 0);
   hash_pairs_.clear();
@@ -228,6 +236,7 @@ void TorusXpbdSim::collect_pairs(double dt) {
 // supports' push outward through the fabric instead of against it
 void TorusXpbdSim::order_links() {
   const int n = static_cast<int>(support_depth_.size());
+  mark_near_colliders();
   queue_.clear();
   for (int i = 0; i < n; ++i) {
     const bool support = model_.inverse_mass[i] == 0.0 || touching_[i];
@@ -255,6 +264,28 @@ void TorusXpbdSim::order_links() {
   for (auto& links : part_links_) links.clear();
   for (int index : link_order_)
     part_links_[pair_part(link_pairs_[index].a, link_pairs_[index].b)].push_back(index);
+}
+
+// the rings within kVelocityReach links of one that touched a collider in the last step (before
+// order_links forgets which touched)
+void TorusXpbdSim::mark_near_colliders() {
+  const int n = static_cast<int>(near_collider_.size());
+  queue_.clear();
+  for (int i = 0; i < n; ++i) {
+    support_depth_[i] = touching_[i] ? 0 : -1;
+    if (touching_[i]) queue_.push_back(i);
+  }
+  for (std::size_t head = 0; head < queue_.size(); ++head) {
+    const int ring = queue_[head];
+    if (support_depth_[ring] >= kVelocityReach) continue;
+    for (int other : model_.neighbours[ring]) {
+      if (other >= 0 && support_depth_[other] < 0) {
+        support_depth_[other] = support_depth_[ring] + 1;
+        queue_.push_back(other);
+      }
+    }
+  }
+  for (int i = 0; i < n; ++i) near_collider_[i] = support_depth_[i] >= 0;
 }
 
 void TorusXpbdSim::integrate(double h, int part) {

@@ -17,7 +17,8 @@
 //                   level
 //                   (then the colliders' static friction once more, after the rings' pull)
 //   velocities    - from the pose change over the substep (and drag)
-//   velocity pass - restitution and dynamic friction at the contacts that pushed
+//   velocity pass - restitution and dynamic friction at the contacts that pushed (once; again
+//                   near colliders)
 // A step takes `substeps` substeps, more when rings fly fast: two rings never close in by more
 // than a wire radius between two solves. A seed remembers the side its pair lay on, so wires
 // pushed into each other beyond their circles' crossing are pushed back the way they came.
@@ -48,9 +49,10 @@ struct TorusXpbdSettings {
   double compliance = 0.0;   // m/N, contact compliance (0: rigid)
   double damping = 0.0;      // 1/s, linear and angular velocity drag
   bool sleeping = false;     // rings at rest are not integrated until a contact moves them
-  // Gauss-Seidel passes of the velocity solve (restitution, dynamic friction) per substep: one
-  // leaves a 16 x 16 sheet on a table creeping off it at 3x the rigid references' rate (drape
-  // 2.8 mm from Bullet's after 1 s), 8 settle it to 1.7 mm
+  // Gauss-Seidel passes of the velocity solve (restitution, dynamic friction) per substep, the
+  // first over every contact and the others over those near colliders: one leaves a 16 x 16
+  // sheet on a table creeping off it at 3x the rigid references' rate (drape 2.8 mm from
+  // Bullet's after 1 s), 8 settle it to 1.7 mm
   int velocity_iterations = 8;
   // friction on two tangent axes, each up to friction times the normal force (the pyramid Bullet's
   // two friction directions and ODE's dContactApprox1 solve: up to sqrt 2 times more on the
@@ -106,6 +108,10 @@ struct RingPairContact {
   int a = 0, b = 0;  // rings, a < b
   int seeds = 0;     // seeds in use
   std::array<PairSeed, 3> seed;
+  // m, a lower bound on the circles' distance anywhere: the last scan's nearest sample less what
+  // a sample spacing may hide, less the pair's motion since (a scan of circles farther apart
+  // than its reach would find nothing, and is skipped)
+  double clear = 0.0;
 };
 
 // a contact that pushed in this substep, for the velocity pass
@@ -180,6 +186,7 @@ class TorusXpbdSim {
   void solve_links(double h, bool scan, int part, bool first);
   void solve_other_pairs(double h, bool scan, int part);
   void order_links();
+  void mark_near_colliders();
   // the deepest depth it corrected, m
   double solve_pair(RingPairContact& pair, double h, bool scan, int part, double relaxation);
   void find_new_minima(RingPairContact& pair, const CirclePairDistance& distance, double limit);
@@ -197,7 +204,8 @@ class TorusXpbdSim {
   Vec3 static_friction(int a, const Vec3& arm_a, int b, const Vec3& arm_b, const Vec3& normal,
                        const Vec3& slip, double limit, double stiffness_term, bool& held) const;
   void prepare_velocity_pass(int part);
-  void velocity_sweep(double h, int part);
+  void velocity_sweep(double h, int part, bool all);
+  void velocity_solve(double h, int part, int contact);
   // rigid-body helpers
   Vec3 inverse_inertia_times(int ring, const Vec3& v) const;
   double generalized_inverse_mass(int ring, const Vec3& arm, const Vec3& direction) const;
@@ -239,10 +247,14 @@ class TorusXpbdSim {
   std::array<std::vector<int>, kParts> part_candidates_;  // indices into collider_candidates_
   std::array<std::vector<int>, kParts> part_rings_;       // the rings of each half
   std::vector<char> part_;                                // (n) the half of each ring
+  // m, how much nearer than the nearest of a scan's samples the circles may come between them:
+  // the distance changes by at most the radius per radian, and half a spacing is pi / kSamples
+  double scan_spacing_ = 0.0;
   int threads_ = 1;
-  std::vector<int> support_depth_;                  // (n) links from the nearest support, -1 none
-  std::vector<int> queue_;                          // (n) breadth-first scratch
-  std::vector<char> touching_;                      // (n) 1: touched a collider in this step
+  std::vector<int> support_depth_;   // (n) links from the nearest support, -1 none
+  std::vector<int> queue_;           // (n) breadth-first scratch
+  std::vector<char> touching_;       // (n) 1: touched a collider in this step
+  std::vector<char> near_collider_;  // (n) 1: within kVelocityReach links of one that did before
   std::array<std::vector<int>, kParts + 1> retry_;  // links solved once more in this substep
   bool retrying_ = false;                           // any of them left
   // ring-ring corrections of the first pass are over-relaxed: one Gauss-Seidel pass a substep
@@ -253,6 +265,9 @@ class TorusXpbdSim {
   // contacts that pushed in this substep, by part
   std::array<std::vector<ActiveContact>, kParts + 1> active_;
   std::array<std::vector<VelocityTerms>, kParts + 1> velocity_terms_;  // (active contacts)
+  // the active contacts near colliders (b = -1, or a ring within kVelocityReach links of one that
+  // touches one): the velocity passes after the first solve only these
+  std::array<std::vector<int>, kParts + 1> near_collider_contacts_;
   std::uint64_t substep_ = 0;  // substeps taken, counting from 1: stamps the seeds' active contacts
   std::array<std::vector<ColliderHold>, kParts> collider_holds_;
   std::vector<Mat3> rotation_;  // (n) each ring's orientation as a matrix, kept in step with it

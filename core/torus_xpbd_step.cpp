@@ -133,10 +133,17 @@ void TorusXpbdSim::run_substeps(double h, int substeps, int team) {
       auto scope = profile_.scope_if(lead, "velocities");
       each_half([&](int part) { update_velocities(h, part); });
     }
+    // every contact once, then again those near colliders (none: no more passes; the lists are
+    // read by both threads here and written again only in the next substep's prepare)
     auto scope = profile_.scope_if(lead, "velocity_pass");
     halves_then_seam([&](int part) { prepare_velocity_pass(part); });
-    for (int iteration = 0; iteration < model_.settings.velocity_iterations; ++iteration)
-      halves_then_seam([&](int part) { velocity_sweep(h, part); });
+    halves_then_seam([&](int part) { velocity_sweep(h, part, true); });
+    const bool near_colliders =
+        std::any_of(near_collider_contacts_.begin(), near_collider_contacts_.end(),
+                    [](const std::vector<int>& contacts) { return !contacts.empty(); });
+    for (int iteration = 1; near_colliders && iteration < model_.settings.velocity_iterations;
+         ++iteration)
+      halves_then_seam([&](int part) { velocity_sweep(h, part, true); });
   }
 }
 

@@ -185,5 +185,21 @@ TEST(CircleContact, WarmStartFollowsAMovingPairInAFewSteps) {
   }
 }
 
+TEST(CircleContact, NoNewtonStepGivesThePointsAtTheStartAngleNeverNearerThanTheMinimum) {
+  // what a retried contact uses: the angle its first solve found, on a pose moved a little since.
+  // The distance there is exact for that angle and an upper bound of the minimum
+  std::mt19937 rng(7);
+  const double c = 4.8;
+  for (int k = 0; k < 200; ++k) {
+    const CircleFrame a = random_circle(rng, 3.0, c), b = random_circle(rng, 3.0, c);
+    const double t = 2.0 * kPi * k / 200.0;
+    const ClosestPoints at = refine_closest_points(a, b, std::cos(t), std::sin(t), 0);
+    EXPECT_NEAR(at.cos_t, std::cos(t), 1e-15);
+    EXPECT_NEAR((at.second - b.at(std::cos(t), std::sin(t))).norm(), 0.0, 1e-12 * c);
+    EXPECT_NEAR(at.distance, point_circle_distance(at.second, as_circle(a)), 1e-12 * c);
+    EXPECT_GE(at.distance, closest_points(a, b).distance - 1e-12 * c);
+  }
+}
+
 }  // namespace
 }  // namespace chainmail
