@@ -20,7 +20,7 @@ const KnobTable<TorusXpbdSettings>& torus_xpbd_knobs() {
     t.number("damping", &S::damping, 0.0, 1e4, "linear and angular velocity drag, 1/s");
     t.integer("velocity_iterations", &S::velocity_iterations, 1, 1000,
               "Gauss-Seidel passes of the velocity solve (restitution, dynamic friction) per "
-              "substep, the first over every contact, the others over those near colliders");
+              "substep, the first two over every contact, the others over those near colliders");
     t.boolean("sleeping", &S::sleeping,
               "rings at rest are not integrated until a contact moves them");
     t.boolean("friction_pyramid", &S::friction_pyramid,

@@ -17,7 +17,7 @@
 //                   level
 //                   (then the colliders' static friction once more, after the rings' pull)
 //   velocities    - from the pose change over the substep (and drag)
-//   velocity pass - restitution and dynamic friction at the contacts that pushed (once; again
+//   velocity pass - restitution and dynamic friction at the contacts that pushed (twice; again
 //                   near colliders)
 // A step takes `substeps` substeps, more when rings fly fast: two rings never close in by more
 // than a wire radius between two solves. A seed remembers the side its pair lay on, so wires
@@ -50,7 +50,7 @@ struct TorusXpbdSettings {
   double damping = 0.0;      // 1/s, linear and angular velocity drag
   bool sleeping = false;     // rings at rest are not integrated until a contact moves them
   // Gauss-Seidel passes of the velocity solve (restitution, dynamic friction) per substep, the
-  // first over every contact and the others over those near colliders: one leaves a 16 x 16
+  // first two over every contact and the others over those near colliders: one leaves a 16 x 16
   // sheet on a table creeping off it at 3x the rigid references' rate (drape 2.8 mm from
   // Bullet's after 1 s), 8 settle it to 1.7 mm
   int velocity_iterations = 8;
@@ -162,6 +162,13 @@ class TorusXpbdSim {
   const std::vector<RingPairContact>& other_pairs() const { return other_pairs_; }
   // translational + rotational kinetic energy plus gravitational potential energy, J
   double energy() const;
+  // contact solves of the velocity passes in the last step (every contact in the first passes,
+  // those near colliders in the later ones)
+  long long velocity_solves() const {
+    long long sum = 0;
+    for (long long count : velocity_solves_) sum += count;
+    return sum;
+  }
   // the half each ring is solved in (0 or 1)
   const std::vector<char>& ring_part() const { return part_; }
 
@@ -268,6 +275,7 @@ class TorusXpbdSim {
   // the active contacts near colliders (b = -1, or a ring within kVelocityReach links of one that
   // touches one): the velocity passes after the first solve only these
   std::array<std::vector<int>, kParts + 1> near_collider_contacts_;
+  std::array<long long, kParts + 1> velocity_solves_{};  // by part, in this step
   std::uint64_t substep_ = 0;  // substeps taken, counting from 1: stamps the seeds' active contacts
   std::array<std::vector<ColliderHold>, kParts> collider_holds_;
   std::vector<Mat3> rotation_;  // (n) each ring's orientation as a matrix, kept in step with it
