@@ -267,7 +267,8 @@ void TorusXpbdSim::order_links() {
 }
 
 // the rings within kVelocityReach links of one that touched a collider in the last step (before
-// order_links forgets which touched)
+// order_links forgets which touched; support_depth_ serves as the breadth-first scratch, which
+// order_links then fills anew)
 void TorusXpbdSim::mark_near_colliders() {
   const int n = static_cast<int>(near_collider_.size());
   queue_.clear();

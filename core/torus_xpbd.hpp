@@ -212,7 +212,8 @@ class TorusXpbdSim {
                        const Vec3& slip, double limit, double stiffness_term, bool& held) const;
   void prepare_velocity_pass(int part);
   void velocity_sweep(double h, int part, bool all);
-  void velocity_solve(double h, int part, int contact);
+  // one contact: `resting` (m/s) the normal speed below which it does not bounce, inv_h 1/substep
+  void velocity_solve(double resting, double inv_h, int part, int contact);
   // rigid-body helpers
   Vec3 inverse_inertia_times(int ring, const Vec3& v) const;
   double generalized_inverse_mass(int ring, const Vec3& arm, const Vec3& direction) const;

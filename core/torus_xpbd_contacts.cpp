@@ -380,9 +380,7 @@ void TorusXpbdSim::prepare_velocity_pass(int part) {
 }
 
 // one contact's restitution and dynamic friction
-void TorusXpbdSim::velocity_solve(double h, int part, int k) {
-  const double resting = 2.0 * model_.gravity.norm() * h;  // m/s, slower contacts do not bounce
-  const double inv_h = 1.0 / h;                            // 1/s
+void TorusXpbdSim::velocity_solve(double resting, double inv_h, int part, int k) {
   ActiveContact& contact = active_[part][k];
   const VelocityTerms& terms = velocity_terms_[part][k];
   const bool ring_b = contact.b >= 0;
@@ -439,11 +437,14 @@ void TorusXpbdSim::velocity_solve(double h, int part, int k) {
 // that touch a collider (the later ones)
 void TorusXpbdSim::velocity_sweep(double h, int part, bool all) {
   std::vector<ActiveContact>& active = active_[part];
+  const double resting = 2.0 * model_.gravity.norm() * h;  // m/s, slower contacts do not bounce
+  const double inv_h = 1.0 / h;                            // 1/s
   if (all) {
-    for (std::size_t k = 0; k < active.size(); ++k) velocity_solve(h, part, static_cast<int>(k));
+    for (std::size_t k = 0; k < active.size(); ++k)
+      velocity_solve(resting, inv_h, part, static_cast<int>(k));
     velocity_solves_[part] += static_cast<long long>(active.size());
   } else {
-    for (int k : near_collider_contacts_[part]) velocity_solve(h, part, k);
+    for (int k : near_collider_contacts_[part]) velocity_solve(resting, inv_h, part, k);
     velocity_solves_[part] += static_cast<long long>(near_collider_contacts_[part].size());
   }
 }
