@@ -4,6 +4,8 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
+#include <cstddef>
 #include <thread>
 
 #if defined(CHAINMAIL_HAS_OPENMP)
@@ -32,5 +34,23 @@ inline int loop_threads(int threads, int count, int grain = 512) {
   if (!parallel_loops_available()) return 1;
   return std::clamp(count / std::max(1, grain), 1, std::max(1, threads));
 }
+
+// one T for each of N threads (or parts of the work), each on cache lines of its own: threads
+// that push into neighbouring vectors side by side would otherwise hand the line holding their
+// ends back and forth at every push
+template <class T, std::size_t N>
+class PerThread {
+ public:
+  static constexpr std::size_t kCacheLine = 64;  // bytes, x86-64 and most ARM cores
+  T& operator[](std::size_t k) { return slots_[k].value; }
+  const T& operator[](std::size_t k) const { return slots_[k].value; }
+  static constexpr std::size_t size() { return N; }
+
+ private:
+  struct alignas(kCacheLine) Slot {
+    T value{};
+  };
+  std::array<Slot, N> slots_;
+};
 
 }  // namespace chainmail

@@ -152,8 +152,8 @@ void TorusXpbdSim::reset_scratch() {
   previous_pairs_.clear();
   collider_candidates_.clear();
   previous_candidates_.clear();
-  for (auto& active : active_) active.clear();
-  for (auto& holds : collider_holds_) holds.clear();
+  for (std::size_t part = 0; part < active_.size(); ++part) active_[part].clear();
+  for (std::size_t part = 0; part < collider_holds_.size(); ++part) collider_holds_[part].clear();
   profile_.clear();
 }
 

@@ -35,6 +35,7 @@
 
 #include "core/circle_contact.hpp"
 #include "core/frame.hpp"
+#include "core/parallel.hpp"
 #include "core/profile.hpp"
 #include "core/scene.hpp"
 #include "core/spatial_hash.hpp"
@@ -166,7 +167,8 @@ class TorusXpbdSim {
   // those near colliders in the later ones)
   long long velocity_solves() const {
     long long sum = 0;
-    for (long long count : velocity_solves_) sum += count;
+    for (std::size_t part = 0; part < velocity_solves_.size(); ++part)
+      sum += velocity_solves_[part];
     return sum;
   }
   // the half each ring is solved in (0 or 1)
@@ -182,7 +184,8 @@ class TorusXpbdSim {
   int pair_part(int a, int b) const { return part_[a] == part_[b] ? part_[a] : kSeam; }
   // the step's phases (torus_xpbd.cpp); `part`: a half, or kSeam
   void collect_pairs(double dt);
-  void run_substeps(double h, int substeps, int team);
+  // substep k of this step is stamped first_stamp + k
+  void run_substeps(double h, int substeps, int team, std::uint64_t first_stamp);
   void integrate(double h, int part);
   void update_velocities(double h, int part);
   void update_sleep(double dt);
@@ -190,12 +193,13 @@ class TorusXpbdSim {
   // contacts (torus_xpbd_contacts.cpp)
   // the links of one part once (over-relaxed), or those still deep once more; `retry` keeps those
   // to be solved again
-  void solve_links(double h, bool scan, int part, bool first);
-  void solve_other_pairs(double h, bool scan, int part);
+  void solve_links(double h, bool scan, int part, bool first, std::uint64_t stamp);
+  void solve_other_pairs(double h, bool scan, int part, std::uint64_t stamp);
   void order_links();
   void mark_near_colliders();
-  // the deepest depth it corrected, m
-  double solve_pair(RingPairContact& pair, double h, bool scan, int part, double relaxation);
+  // the deepest depth it corrected, m; `stamp`: the substep's (PairSeed::pushed)
+  double solve_pair(RingPairContact& pair, double h, bool scan, int part, double relaxation,
+                    std::uint64_t stamp);
   void find_new_minima(RingPairContact& pair, const CirclePairDistance& distance, double limit);
   void solve_colliders(double h, bool scan, int part);
   // the index in active_[part] of the contact it added to (`into`, a retry of a seed that pushed
@@ -263,22 +267,22 @@ class TorusXpbdSim {
   std::vector<int> queue_;           // (n) breadth-first scratch
   std::vector<char> touching_;       // (n) 1: touched a collider in this step
   std::vector<char> near_collider_;  // (n) 1: within kVelocityReach links of one that did before
-  std::array<std::vector<int>, kParts + 1> retry_;  // links solved once more in this substep
-  bool retrying_ = false;                           // any of them left
+  PerThread<std::vector<int>, kParts + 1> retry_;  // links solved once more in this substep
+  bool retrying_ = false;                          // any of them left
   // ring-ring corrections of the first pass are over-relaxed: one Gauss-Seidel pass a substep
   // leaves a hanging sheet's contacts short by a share of the weight below them, and 1.3 takes a
   // third of that off (rigid contacts overshoot into a gap, never into each other)
   static constexpr double kOverRelaxation = 1.3;
   std::vector<ColliderCandidate> collider_candidates_, previous_candidates_;
   // contacts that pushed in this substep, by part
-  std::array<std::vector<ActiveContact>, kParts + 1> active_;
-  std::array<std::vector<VelocityTerms>, kParts + 1> velocity_terms_;  // (active contacts)
+  PerThread<std::vector<ActiveContact>, kParts + 1> active_;
+  PerThread<std::vector<VelocityTerms>, kParts + 1> velocity_terms_;  // (active contacts)
   // the active contacts near colliders (b = -1, or a ring within kVelocityReach links of one that
   // touches one): the velocity passes after the first solve only these
-  std::array<std::vector<int>, kParts + 1> near_collider_contacts_;
-  std::array<long long, kParts + 1> velocity_solves_{};  // by part, in this step
-  std::uint64_t substep_ = 0;  // substeps taken, counting from 1: stamps the seeds' active contacts
-  std::array<std::vector<ColliderHold>, kParts> collider_holds_;
+  PerThread<std::vector<int>, kParts + 1> near_collider_contacts_;
+  PerThread<long long, kParts + 1> velocity_solves_;  // by part, in this step
+  std::uint64_t substep_ = 0;  // substeps taken: their stamps count from 1 (PairSeed::pushed)
+  PerThread<std::vector<ColliderHold>, kParts> collider_holds_;
   std::vector<Mat3> rotation_;  // (n) each ring's orientation as a matrix, kept in step with it
   std::vector<Mat3> previous_rotation_;  // (n) the same at the substep's start
 };

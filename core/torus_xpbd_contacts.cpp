@@ -56,7 +56,7 @@ void tangent_axes(const Vec3& n, Vec3& t1, Vec3& t2) {
 // radii pushes the rings apart. A seed that cannot touch yet is not solved: its lower bound only
 // shrinks by the substep's motion, so it is solved again before it could touch.
 double TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan, int part,
-                                double relaxation) {
+                                double relaxation, std::uint64_t stamp) {
   const double a = model_.ring.wire_radius, c = model_.ring.centre_radius;
   // m, how much nearer the pair can come in a substep: its rings' own motion, and a margin for
   // what the contact solve moves them
@@ -97,9 +97,9 @@ double TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan, int 
     }
     // a retry in the substep that solved the seed keeps its angle: the pair moved by one
     // correction since, and the distance there is an upper bound (never over-corrects)
-    const int newton_steps = seed.pushed == substep_ ? 0
-                             : seed.recent           ? kSubstepNewton
-                                                     : kResumeNewton;
+    const int newton_steps = seed.pushed == stamp ? 0
+                             : seed.recent        ? kSubstepNewton
+                                                  : kResumeNewton;
     const ClosestPoints p =
         CirclePairDistance(fa, fb).refine(seed.cos_t, seed.sin_t, newton_steps, 1e-10);
     // the side is the seed's while it follows one minimum: circles that crossed within the
@@ -125,10 +125,10 @@ double TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan, int 
     const double depth = 2.0 * a - distance;
     if (depth > 0.0) {
       // one contact per seed for the velocity pass: a retry adds its multiplier to the first's
-      const int into = seed.pushed == substep_ ? seed.active : -1;
+      const int into = seed.pushed == stamp ? seed.active : -1;
       seed.active = apply_contact(pair.a, pair.b, seed.normal, 0.5 * (p.first + p.second), depth,
                                   model_.ring_friction, h, part, relaxation, into);
-      seed.pushed = substep_;
+      seed.pushed = stamp;
       stale = true;
       deepest = std::max(deepest, depth);
     }

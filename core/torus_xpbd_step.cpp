@@ -56,7 +56,7 @@ void team_barrier(int team) {
 }  // namespace
 
 bool TorusXpbdSim::step(double dt) {
-  velocity_solves_.fill(0);
+  for (std::size_t part = 0; part < velocity_solves_.size(); ++part) velocity_solves_[part] = 0;
   collect_pairs(dt);
   // enough substeps that two rings close in by at most a wire radius in one: wires cannot pass
   // through each other between two contact solves, however fast the rings fly
@@ -68,8 +68,11 @@ bool TorusXpbdSim::step(double dt) {
   const int team = parallel_loops_available() && static_cast<int>(part_.size()) >= kThreadedRings
                        ? std::min(threads_, kParts)
                        : 1;
+  // substeps are stamped from 1 (a seed's `pushed` starts at 0)
+  const std::uint64_t first_stamp = substep_ + 1;
+  substep_ += static_cast<std::uint64_t>(substeps);
 #pragma omp parallel num_threads(team) if (team > 1)
-  run_substeps(h, substeps, team > 1 ? team_size() : 1);  // OpenMP may give fewer than asked
+  run_substeps(h, substeps, team > 1 ? team_size() : 1, first_stamp);  // OpenMP may give fewer
   if (model_.settings.sleeping) update_sleep(dt);
   state_.t += dt;
   return finite();
@@ -77,8 +80,11 @@ bool TorusXpbdSim::step(double dt) {
 
 // the substeps, on each thread of the team: every phase solves the halves (both on one thread, one
 // each on two) and then, on the first thread, the contacts between them. Every thread meets every
-// barrier: the loops' trip counts come from state the phase before left.
-void TorusXpbdSim::run_substeps(double h, int substeps, int team) {
+// barrier: the loops' trip counts come from state the phase before left. Steps that touch only
+// one half's rings follow each other within a phase with no barrier between (a half's colliders
+// and first link pass see only its own rings, which its own integration moved): the order, and
+// the result, are those of one barrier after each.
+void TorusXpbdSim::run_substeps(double h, int substeps, int team, std::uint64_t first_stamp) {
   const int thread = team > 1 ? team_thread() : 0;
   const bool lead = thread == 0;  // keeps the profile, solves the seam
   const auto each_half = [&](const auto& solve) {
@@ -94,64 +100,81 @@ void TorusXpbdSim::run_substeps(double h, int substeps, int team) {
     each_half(solve);
     seam(solve);
   };
+  const bool colliders = !collider_candidates_.empty();
   for (int k = 0; k < substeps; ++k) {
     const bool scan = k % kScanInterval == 0;
-    {
-      auto scope = profile_.scope_if(lead, "integrate");
-      each_half([&](int part) {
-        if (part == 0) active_[kSeam].clear(), ++substep_;  // the lead's: read after the barrier
+    const std::uint64_t stamp = first_stamp + static_cast<std::uint64_t>(k);
+    // each half: integrated, then its colliders (the rings' own contacts then see where the
+    // colliders put them), then its links in their order. The links, then again those that pushed
+    // deep or hold a ring against a collider: one Gauss-Seidel pass leaves a link carrying much of
+    // a sheet's weight (a corner that holds half of it, a ring pressed between a collider and the
+    // rings it carries) short by a share of that weight
+    each_half([&](int part) {
+      {
+        auto scope = profile_.scope_if(lead, "integrate");
+        if (part == 0) active_[kSeam].clear();  // the lead's: the seam's solve comes after
         active_[part].clear();
         collider_holds_[part].clear();
         integrate(h, part);
-      });
-    }
-    // colliders first: the rings' own contacts then see where the colliders put them
-    if (!collider_candidates_.empty()) {
-      auto scope = profile_.scope_if(lead, "colliders");
-      each_half([&](int part) { solve_colliders(h, scan, part); });
-    }
+      }
+      if (colliders) {
+        auto scope = profile_.scope_if(lead, "colliders");
+        solve_colliders(h, scan, part);
+      }
+      auto scope = profile_.scope_if(lead, "contacts");
+      solve_links(h, scan, part, true, stamp);
+    });
     {
       auto scope = profile_.scope_if(lead, "contacts");
-      // the links in their order, then again those that pushed deep or hold a ring against a
-      // collider: one Gauss-Seidel pass leaves a link carrying much of a sheet's weight (a corner
-      // that holds half of it, a ring pressed between a collider and the rings it carries) short
-      // by a share of that weight
       // (whether any link is left is the lead's to say, in the seam's phase: the halves' lists
       // change again once both threads have read it)
-      const auto links = [&](bool first) {
-        each_half([&](int part) { solve_links(h, scan, part, first); });
+      const auto seam_links = [&](bool first) {
         seam([&](int part) {
-          solve_links(h, scan, part, first);
+          solve_links(h, scan, part, first, stamp);
           retrying_ = !(retry_[0].empty() && retry_[1].empty() && retry_[kSeam].empty());
         });
       };
-      links(true);
-      for (int pass = 0; pass < kRetryPasses && retrying_; ++pass) links(false);
+      seam_links(true);
+      for (int pass = 0; pass < kRetryPasses && retrying_; ++pass) {
+        each_half([&](int part) { solve_links(h, scan, part, false, stamp); });
+        seam_links(false);
+      }
       if (!other_pairs_.empty()) {
         auto others = profile_.scope_if(lead, "self_contact");
-        halves_then_seam([&](int part) { solve_other_pairs(h, scan, part); });
+        halves_then_seam([&](int part) { solve_other_pairs(h, scan, part, stamp); });
       }
     }
-    if (!collider_candidates_.empty()) {
-      auto scope = profile_.scope_if(lead, "colliders");
-      each_half([&](int part) { hold_collider_friction(h, part); });
-    }
-    {
-      auto scope = profile_.scope_if(lead, "velocities");
-      each_half([&](int part) { update_velocities(h, part); });
-    }
+    // each half: the colliders' static friction once more, its velocities from the substep's
+    // motion, and what the velocity pass needs from the poses (which it does not change)
+    each_half([&](int part) {
+      if (colliders) {
+        auto scope = profile_.scope_if(lead, "colliders");
+        hold_collider_friction(h, part);
+      }
+      {
+        auto scope = profile_.scope_if(lead, "velocities");
+        update_velocities(h, part);
+      }
+      auto scope = profile_.scope_if(lead, "velocity_pass");
+      prepare_velocity_pass(part);
+    });
     // every contact in the first passes, then again those near colliders (none: no more passes;
     // the lists are read by both threads here and written again only in the next substep's
-    // prepare)
+    // prepare). The seam's contacts are prepared by the lead beside the first pass over its half:
+    // the passes change velocities, not poses
     auto scope = profile_.scope_if(lead, "velocity_pass");
-    halves_then_seam([&](int part) { prepare_velocity_pass(part); });
     const int passes = model_.settings.velocity_iterations;
     const int everywhere = std::min(passes, kEveryContactPasses);
-    for (int iteration = 0; iteration < everywhere; ++iteration)
-      halves_then_seam([&](int part) { velocity_sweep(h, part, true); });
-    const bool near_colliders =
-        std::any_of(near_collider_contacts_.begin(), near_collider_contacts_.end(),
-                    [](const std::vector<int>& contacts) { return !contacts.empty(); });
+    for (int iteration = 0; iteration < everywhere; ++iteration) {
+      each_half([&](int part) {
+        if (iteration == 0 && part == 0) prepare_velocity_pass(kSeam);
+        velocity_sweep(h, part, true);
+      });
+      seam([&](int part) { velocity_sweep(h, part, true); });
+    }
+    bool near_colliders = false;
+    for (std::size_t part = 0; part < near_collider_contacts_.size(); ++part)
+      near_colliders = near_colliders || !near_collider_contacts_[part].empty();
     for (int iteration = everywhere; near_colliders && iteration < passes; ++iteration)
       halves_then_seam([&](int part) { velocity_sweep(h, part, false); });
   }
@@ -160,7 +183,7 @@ void TorusXpbdSim::run_substeps(double h, int substeps, int team) {
 // one part's links in their order (first: over-relaxed, every link), or again those that pushed
 // deep or hold a ring against a collider (the later passes are not over-relaxed: they correct
 // what is left, not a whole load)
-void TorusXpbdSim::solve_links(double h, bool scan, int part, bool first) {
+void TorusXpbdSim::solve_links(double h, bool scan, int part, bool first, std::uint64_t stamp) {
   const double deep = kRetryDepth * model_.ring.wire_radius;  // m
   const auto again = [&](const RingPairContact& pair, double depth) {
     return depth > deep || touching_[pair.a] || touching_[pair.b];
@@ -170,21 +193,22 @@ void TorusXpbdSim::solve_links(double h, bool scan, int part, bool first) {
     retry.clear();
     for (int index : part_links_[part]) {
       RingPairContact& pair = link_pairs_[index];
-      if (again(pair, solve_pair(pair, h, scan, part, kOverRelaxation))) retry.push_back(index);
+      if (again(pair, solve_pair(pair, h, scan, part, kOverRelaxation, stamp)))
+        retry.push_back(index);
     }
     return;
   }
   std::size_t kept = 0;
   for (int index : retry) {
     RingPairContact& pair = link_pairs_[index];
-    if (again(pair, solve_pair(pair, h, false, part, 1.0))) retry[kept++] = index;
+    if (again(pair, solve_pair(pair, h, false, part, 1.0, stamp))) retry[kept++] = index;
   }
   retry.resize(kept);
 }
 
-void TorusXpbdSim::solve_other_pairs(double h, bool scan, int part) {
+void TorusXpbdSim::solve_other_pairs(double h, bool scan, int part, std::uint64_t stamp) {
   for (int index : part_others_[part])
-    solve_pair(other_pairs_[index], h, scan, part, kOverRelaxation);
+    solve_pair(other_pairs_[index], h, scan, part, kOverRelaxation, stamp);
 }
 
 }  // namespace chainmail
