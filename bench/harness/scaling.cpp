@@ -36,30 +36,47 @@ Scene curtain_at(const ScalingPlan& plan, const std::string& scenes, int side) {
                                                     "duration=" + d, "sample_interval=" + d});
 }
 
-// one cell per thread count, each the median of `repeats` runs. The runs go round the thread
-// counts (1, 2, 1, 2, ...) so that a slow spell of a shared machine falls on all of them alike
-// instead of on one cell's runs, and the speed-up compares like with like
-std::vector<ScalingCell> measure(const Scene& scene, const std::string& backend,
-                                 const std::vector<int>& thread_counts, int repeats,
+// what one size measures of one backend: a cell per thread count, each the median of `repeats`
+// runs
+struct ScalingEntry {
+  std::string backend;
+  std::vector<int> thread_counts;
+  int repeats = 1;
+};
+
+// every entry's cells at one size. The runs go round in rounds, every backend and thread count once
+// a round (1, 2, 1, 2, ... threads; plausible, ode, torus_xpbd, plausible, ...), so that a slow
+// spell of a shared machine falls on all of them alike instead of on one cell's runs, and the
+// speed-ups and the costs relative to one another compare like with like
+std::vector<ScalingCell> measure(const Scene& scene, const std::vector<ScalingEntry>& entries,
                                  bool progress) {
-  std::vector<ScalingCell> cells(thread_counts.size());
-  std::vector<std::vector<double>> ms(thread_counts.size());  // ms per step of every run
-  for (std::size_t k = 0; k < cells.size(); ++k) {
-    ScalingCell& cell = cells[k];
-    cell.backend = backend;
-    cell.side = scene.weave.cols;
-    cell.rings = scene.weave.rows * scene.weave.cols;
-    cell.threads = thread_counts[k];
+  std::vector<ScalingCell> cells;
+  std::vector<int> entry_of;  // the entry each cell belongs to
+  for (std::size_t e = 0; e < entries.size(); ++e) {
+    for (int threads : entries[e].thread_counts) {
+      ScalingCell cell;
+      cell.backend = entries[e].backend;
+      cell.side = scene.weave.cols;
+      cell.rings = scene.weave.rows * scene.weave.cols;
+      cell.threads = threads;
+      cells.push_back(cell);
+      entry_of.push_back(static_cast<int>(e));
+    }
   }
-  for (int round = 0; round < repeats && !interrupted(); ++round) {
+  int rounds = 0;
+  for (const ScalingEntry& entry : entries) rounds = std::max(rounds, entry.repeats);
+  std::vector<std::vector<double>> ms(cells.size());  // ms per step of every run
+  for (int round = 0; round < rounds && !interrupted(); ++round) {
     for (std::size_t k = 0; k < cells.size() && !interrupted(); ++k) {
+      const int repeats = entries[entry_of[k]].repeats;
+      if (round >= repeats) continue;
       ScalingCell& cell = cells[k];
       if (progress)
         std::fprintf(stderr, "bench: scaling %s %d x %d on %d thread%s (run %d of %d)\n",
-                     backend.c_str(), cell.side, cell.side, cell.threads,
+                     cell.backend.c_str(), cell.side, cell.side, cell.threads,
                      cell.threads == 1 ? "" : "s", round + 1, repeats);
       RunOptions options;
-      options.backends = {backend};
+      options.backends = {cell.backend};
       options.progress = false;
       options.reference = kNoReference;
       options.threads = cell.threads;
@@ -85,6 +102,16 @@ std::vector<ScalingCell> measure(const Scene& scene, const std::string& backend,
   return cells;
 }
 
+// a cell's cost per simulated second over ODE's on one thread at the same size (0: none measured)
+double cost_vs_ode(const ScalingCell& cell, const std::vector<ScalingCell>& cells) {
+  for (const ScalingCell& ode : cells) {
+    if (ode.backend == "ode" && ode.side == cell.side && ode.threads == 1 &&
+        ode.ms_per_step > 0.0 && cell.dt > 0.0)
+      return (cell.ms_per_step / cell.dt) / (ode.ms_per_step / ode.dt);
+  }
+  return 0.0;
+}
+
 // wall seconds a run of `info` is estimated to take (the registry's rough cost)
 double estimated_seconds(const BackendInfo& info, const Scene& scene, double dt) {
   const double steps = scene.duration / dt;
@@ -100,7 +127,7 @@ std::string hex(std::uint64_t value) {
 void write_csv(const std::vector<ScalingCell>& cells, const std::string& path) {
   std::ostringstream csv;
   csv << "backend,side,rings,threads,runs,steps,dt,ms_per_step,us_per_ring_step,"
-         "realtime_factor,speedup,max_stretch,verdict,hash,hashes_agree\n";
+         "realtime_factor,speedup,max_stretch,verdict,hash,hashes_agree,cost_vs_ode\n";
   for (const ScalingCell& c : cells) {
     // the speed-up over the same backend and size on one thread
     std::string speedup;
@@ -114,25 +141,32 @@ void write_csv(const std::vector<ScalingCell>& cells, const std::string& path) {
         << csv_number(1e3 * c.ms_per_step / c.rings) << ','
         << csv_number(c.ms_per_step > 0.0 ? 1e3 * c.dt / c.ms_per_step : 0.0) << ',' << speedup
         << ',' << csv_number(c.max_stretch) << ',' << c.verdict << ',' << hex(c.hash) << ','
-        << (c.hashes_agree ? "true" : "false") << '\n';
+        << (c.hashes_agree ? "true" : "false") << ',';
+    const double vs_ode = cost_vs_ode(c, cells);
+    if (vs_ode > 0.0) csv << csv_number(vs_ode);
+    csv << '\n';
   }
   write_file_atomic(path, csv.str());
 }
 
 std::string markdown(const std::vector<ScalingCell>& cells, const ScalingPlan& plan) {
   std::ostringstream md;
-  char line[512];
+  char line[1024];
   std::snprintf(line, sizeof line,
                 "The curtain (4-in-1, hung from its top edge, self-contact on, each "
                 "backend's default dt) for %.2g s at each size; ms per step counts `step()` only, "
-                "the median of %d runs for plausible, taken in turn on each thread count (one "
-                "run for the others; on 1 and 2 threads where the backend steps on several). "
-                "Same hash: every run of the backend at that size, on any thread count, ended on "
-                "the same final-state hash.\n\n",
-                plan.duration, plan.repeats);
+                "the median of the runs (%d for plausible and for every backend whose run is "
+                "estimated to take at most %.3g s, one otherwise), on 1 and 2 threads where the "
+                "backend steps on several; the runs at a size go round the backends and thread "
+                "counts, so a slow spell of the machine falls on all of them. Cost vs ODE: cost "
+                "per simulated second over ODE's on one thread at that size. Same hash: every "
+                "run of the backend at that size, on any thread count, ended on the same "
+                "final-state hash.\n\n",
+                plan.duration, plan.repeats, plan.repeat_budget_s);
   md << line
-     << "| backend | rings | threads | ms/step | µs per ring-step | real-time factor | speed-up "
-        "| max_stretch | same hash |\n|---|---|---|---|---|---|---|---|---|\n";
+     << "| backend | rings | threads | runs | ms/step | µs per ring-step | real-time factor | "
+        "speed-up | cost vs ODE | max_stretch | same hash |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const ScalingCell& c : cells) {
     double one = 0.0;
     for (const ScalingCell& o : cells)
@@ -143,10 +177,14 @@ std::string markdown(const std::vector<ScalingCell>& cells, const ScalingPlan& p
     char speedup[32] = "";
     if (c.threads > 1 && c.ms_per_step > 0.0)
       std::snprintf(speedup, sizeof speedup, "%.2f×", one / c.ms_per_step);
-    std::snprintf(
-        line, sizeof line, "| %s | %d × %d | %d | %.3f | %.3f | %.3g | %s | %.4f | %s |\n",
-        c.backend.c_str(), c.side, c.side, c.threads, c.ms_per_step, 1e3 * c.ms_per_step / c.rings,
-        1e3 * c.dt / std::max(c.ms_per_step, 1e-12), speedup, c.max_stretch, same ? "yes" : "no");
+    char vs_ode[32] = "";
+    if (const double cost = cost_vs_ode(c, cells); cost > 0.0)
+      std::snprintf(vs_ode, sizeof vs_ode, "%.3g", cost);
+    std::snprintf(line, sizeof line,
+                  "| %s | %d × %d | %d | %d | %.3f | %.3f | %.3g | %s | %s | %.4f | %s |\n",
+                  c.backend.c_str(), c.side, c.side, c.threads, c.runs, c.ms_per_step,
+                  1e3 * c.ms_per_step / c.rings, 1e3 * c.dt / std::max(c.ms_per_step, 1e-12),
+                  speedup, vs_ode, c.max_stretch, same ? "yes" : "no");
     md << line;
   }
   md << "\n`scaling.csv` holds the same cells; `scaling.png` plots ms per step against rings "
@@ -178,16 +216,17 @@ std::string run_scaling(const ScalingPlan& plan, const std::string& scenes,
   for (int side : plan.sides) {
     if (interrupted()) break;
     const Scene scene = curtain_at(plan, scenes, side);
+    std::vector<ScalingEntry> entries;
     for (const std::string& name : select_backends(scene, backends)) {
       const BackendInfo& info = *find_backend(name);
       const bool plausible = name == "plausible";
-      const double dt = resolve_knobs(scene, info).at("dt");
-      if (!plausible && estimated_seconds(info, scene, dt) > plan.budget_s) continue;
-      const std::vector<ScalingCell> measured =
-          measure(scene, name, info.multithreaded ? plan.threads : std::vector<int>{1},
-                  plausible ? plan.repeats : 1, progress);
-      cells.insert(cells.end(), measured.begin(), measured.end());
+      const double estimate = estimated_seconds(info, scene, resolve_knobs(scene, info).at("dt"));
+      if (!plausible && estimate > plan.budget_s) continue;
+      entries.push_back({name, info.multithreaded ? plan.threads : std::vector<int>{1},
+                         plausible || estimate <= plan.repeat_budget_s ? plan.repeats : 1});
     }
+    const std::vector<ScalingCell> measured = measure(scene, entries, progress);
+    cells.insert(cells.end(), measured.begin(), measured.end());
   }
   write_csv(cells, out + "/scaling.csv");
   make_plot("plot_scaling.py", {out + "/scaling.csv", out + "/scaling.png"});

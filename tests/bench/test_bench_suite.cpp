@@ -56,7 +56,7 @@ TEST(Scaling, TableHasEverySizeOnEachThreadCountWithOneHashPerSize) {
     std::vector<std::string> cells;
     std::stringstream row(line);
     for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
-    ASSERT_EQ(cells.size(), 15u) << line;
+    ASSERT_EQ(cells.size(), 15u) << line;  // no ODE run: cost_vs_ode empty (getline drops it)
     ++rows;
     EXPECT_EQ(cells[0], "plausible");
     EXPECT_GT(std::stod(cells[7]), 0.0);            // ms_per_step
@@ -115,6 +115,58 @@ TEST(Scaling, RepeatsGoRoundTheThreadCountsSoASlowSpellFallsOnAll) {
     EXPECT_NE(line.find(",2,"), std::string::npos) << line;  // runs
   }
   EXPECT_EQ(rows, 2);
+  fs::remove_all(out);
+}
+
+TEST(Scaling, RunsGoRoundTheBackendsAndCostsAreRelativeToOdesOnOneThread) {
+  // two runs per cell, in rounds over the backends and thread counts (ode, torus_xpbd on 1 and
+  // 2 threads, then again), and each cell's cost per simulated second over ODE's
+  if (!backend_built("ode")) GTEST_SKIP() << "ode is not built into this binary";
+  ScalingPlan plan = scaling_plan(true, 4);
+  plan.repeats = 2;
+  const fs::path out = fs::temp_directory_path() / "chainmail_test_scaling_vs_ode";
+  fs::remove_all(out);
+  fs::create_directories(out);
+  testing::internal::CaptureStderr();
+  const std::string table = run_scaling(plan, CHAINMAIL_SOURCE_DIR "/bench/scenes",
+                                        {"ode", "torus_xpbd"}, out.string(), true);
+  const std::string progress = testing::internal::GetCapturedStderr();
+  std::vector<std::string> order;
+  std::stringstream lines(progress);
+  for (std::string line; std::getline(lines, line);)
+    if (line.find("bench: scaling ") == 0) order.push_back(line.substr(15));
+  EXPECT_EQ(order, (std::vector<std::string>{
+                       "ode 4 x 4 on 1 thread (run 1 of 2)",
+                       "torus_xpbd 4 x 4 on 1 thread (run 1 of 2)",
+                       "torus_xpbd 4 x 4 on 2 threads (run 1 of 2)",
+                       "ode 4 x 4 on 1 thread (run 2 of 2)",
+                       "torus_xpbd 4 x 4 on 1 thread (run 2 of 2)",
+                       "torus_xpbd 4 x 4 on 2 threads (run 2 of 2)",
+                   }))
+      << progress;
+  std::ifstream csv(out / "scaling.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_NE(header.find(",cost_vs_ode"), std::string::npos) << header;
+  std::map<std::string, double> seconds_per_simulated;  // backend and threads -> ms/step / dt
+  std::map<std::string, double> vs_ode;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    ASSERT_EQ(cells.size(), 16u) << line;
+    EXPECT_EQ(cells[4], "2") << line;  // runs
+    const std::string key = cells[0] + "/" + cells[3];
+    seconds_per_simulated[key] = std::stod(cells[7]) / std::stod(cells[6]);
+    vs_ode[key] = std::stod(cells[15]);
+  }
+  ASSERT_EQ(vs_ode.size(), 3u);
+  EXPECT_DOUBLE_EQ(vs_ode["ode/1"], 1.0);
+  for (const std::string key : {"torus_xpbd/1", "torus_xpbd/2"})
+    EXPECT_NEAR(vs_ode[key], seconds_per_simulated[key] / seconds_per_simulated["ode/1"],
+                1e-5 * vs_ode[key])
+        << key;
+  EXPECT_NE(table.find("| cost vs ODE |"), std::string::npos) << table;
   fs::remove_all(out);
 }
 
