@@ -283,11 +283,6 @@ int TorusXpbdSim::apply_contact(int a, int b, const Vec3& normal, const Vec3& po
     correction +=
         static_friction(a, arm_a, b, arm_b, normal, slip, friction * lambda, stiffness_term, stuck);
   }
-  // the approach speed at the substep's start, before gravity's pull in it (against a collider;
-  // between rings it cancels): a bounce returns no more than the speed the contact met
-  Vec3 relative = point_velocity(a, arm_a);
-  if (ring_b) relative -= point_velocity(b, arm_b);
-  if (!ring_b) relative -= h * model_.gravity;
   // every contact that pushed meets dynamic friction in the velocity pass, held or not (it only
   // takes sliding speed away, never more than there is): a held contact's velocity still carries
   // the slip that the contacts solved after it brought
@@ -295,6 +290,11 @@ int TorusXpbdSim::apply_contact(int a, int b, const Vec3& normal, const Vec3& po
   if (into >= 0) {
     active[into].lambda += lambda;
   } else {
+    // the approach speed at the substep's start, before gravity's pull in it (against a collider;
+    // between rings it cancels): a bounce returns no more than the speed the contact met
+    Vec3 relative = point_velocity(a, arm_a);
+    if (ring_b) relative -= point_velocity(b, arm_b);
+    if (!ring_b) relative -= h * model_.gravity;
     active.push_back({a, b, normal, arm_a, arm_b, lambda, w, normal.dot(relative), friction});
     into = static_cast<int>(active.size()) - 1;
   }
