@@ -38,6 +38,10 @@ struct BenchPlan {
   std::vector<BenchStep> sweeps;  // error against run time over each backend's dt
   std::string vary, quick_vary;   // the sweeps' --vary
   double stability_watchdog_s = 10.0, quick_stability_watchdog_s = 5.0;  // per run
+  // the timing table's runs of each backend whose first run stepped for at most
+  // timing_repeat_budget_s (the median of them; one run of the others)
+  int timing_runs = 3, quick_timing_runs = 2;
+  double timing_repeat_budget_s = 12.0;
 };
 
 // what `chainmail bench` runs, in order

@@ -11,6 +11,7 @@
 #include "bench/harness/process.hpp"
 #include "bench/harness/run.hpp"
 #include "bench/harness/scene_file.hpp"
+#include "bench/harness/timed_rounds.hpp"
 #include "bench/harness/verdict.hpp"
 
 namespace chainmail {
@@ -44,60 +45,37 @@ struct ScalingEntry {
   int repeats = 1;
 };
 
-// every entry's cells at one size. The runs go round in rounds, every backend and thread count once
-// a round (1, 2, 1, 2, ... threads; plausible, ode, torus_xpbd, plausible, ...), so that a slow
-// spell of a shared machine falls on all of them alike instead of on one cell's runs, and the
-// speed-ups and the costs relative to one another compare like with like
+// every entry's cells at one size, their runs taken in rounds (1, 2, 1, 2, ... threads; plausible,
+// ode, torus_xpbd, plausible, ...), so that the speed-ups and the costs relative to one another
+// compare like with like
 std::vector<ScalingCell> measure(const Scene& scene, const std::vector<ScalingEntry>& entries,
                                  bool progress) {
+  std::vector<TimedEntry> timed;
+  for (const ScalingEntry& entry : entries)
+    for (int threads : entry.thread_counts)
+      timed.push_back({entry.backend, threads, entry.repeats});
+  const std::string size =
+      std::to_string(scene.weave.cols) + " x " + std::to_string(scene.weave.cols);
+  const std::vector<TimedResult> results = run_in_rounds(scene, timed, "scaling", size, progress);
   std::vector<ScalingCell> cells;
-  std::vector<int> entry_of;  // the entry each cell belongs to
-  for (std::size_t e = 0; e < entries.size(); ++e) {
-    for (int threads : entries[e].thread_counts) {
-      ScalingCell cell;
-      cell.backend = entries[e].backend;
-      cell.side = scene.weave.cols;
-      cell.rings = scene.weave.rows * scene.weave.cols;
-      cell.threads = threads;
-      cells.push_back(cell);
-      entry_of.push_back(static_cast<int>(e));
+  for (std::size_t k = 0; k < timed.size(); ++k) {
+    ScalingCell cell;
+    cell.backend = timed[k].backend;
+    cell.side = scene.weave.cols;
+    cell.rings = scene.weave.rows * scene.weave.cols;
+    cell.threads = timed[k].threads;
+    const TimedResult& result = results[k];
+    cell.runs = static_cast<int>(result.ms_per_step.size());
+    if (cell.runs > 0) {
+      cell.ms_per_step = median_of(result.ms_per_step);
+      cell.hash = result.last.hash;
+      cell.hashes_agree = result.hashes_agree;
+      cell.steps = result.last.steps;
+      cell.dt = result.last.dt;
+      cell.max_stretch = result.last.peak_stretch;
+      cell.verdict = to_string(result.last.verdict);
     }
-  }
-  int rounds = 0;
-  for (const ScalingEntry& entry : entries) rounds = std::max(rounds, entry.repeats);
-  std::vector<std::vector<double>> ms(cells.size());  // ms per step of every run
-  for (int round = 0; round < rounds && !interrupted(); ++round) {
-    for (std::size_t k = 0; k < cells.size() && !interrupted(); ++k) {
-      const int repeats = entries[entry_of[k]].repeats;
-      if (round >= repeats) continue;
-      ScalingCell& cell = cells[k];
-      if (progress)
-        std::fprintf(stderr, "bench: scaling %s %d x %d on %d thread%s (run %d of %d)\n",
-                     cell.backend.c_str(), cell.side, cell.side, cell.threads,
-                     cell.threads == 1 ? "" : "s", round + 1, repeats);
-      RunOptions options;
-      options.backends = {cell.backend};
-      options.progress = false;
-      options.reference = kNoReference;
-      options.threads = cell.threads;
-      const SceneRun run = run_scene(scene, options);
-      const BackendRun& b = run.runs.at(0);
-      if (b.steps == 0) continue;
-      ms[k].push_back(1e3 * b.wall_s / static_cast<double>(b.steps));
-      cell.hashes_agree = cell.hashes_agree && (ms[k].size() == 1 || b.hash == cell.hash);
-      cell.hash = b.hash;
-      cell.steps = b.steps;
-      cell.dt = b.dt;
-      cell.max_stretch = std::max(cell.max_stretch, b.peak_stretch);
-      cell.verdict = to_string(b.verdict);
-    }
-  }
-  for (std::size_t k = 0; k < cells.size(); ++k) {
-    std::vector<double>& runs = ms[k];
-    cells[k].runs = static_cast<int>(runs.size());
-    if (runs.empty()) continue;
-    std::sort(runs.begin(), runs.end());
-    cells[k].ms_per_step = runs[runs.size() / 2];
+    cells.push_back(cell);
   }
   return cells;
 }

@@ -15,17 +15,25 @@ std::string wire_radii_cell(double depth_m, double wire_radius) {
   return table_number(depth_m / wire_radius, 3);
 }
 
-double plausible_cost(const std::vector<BackendRun>& runs) {
+double backend_cost(const std::vector<BackendRun>& runs, const std::string& backend) {
   double cost = 0.0;
   for (const auto& r : runs) {
-    if (r.name == "plausible" && r.dt > 0) cost = r.ms_per_step() / r.dt;
+    if (r.name == backend && r.dt > 0) cost = r.ms_per_step() / r.dt;
   }
   return cost;
 }
 
-std::string cost_vs_plausible_cell(const BackendRun& run, double plausible_cost) {
-  const double relative = plausible_cost > 0 ? (run.ms_per_step() / run.dt) / plausible_cost : NAN;
+double plausible_cost(const std::vector<BackendRun>& runs) {
+  return backend_cost(runs, "plausible");
+}
+
+std::string relative_cost_cell(const BackendRun& run, double base) {
+  const double relative = base > 0 && run.dt > 0 ? (run.ms_per_step() / run.dt) / base : NAN;
   return std::isnan(relative) ? "-" : table_number(relative, 3) + "x";
+}
+
+std::string cost_vs_plausible_cell(const BackendRun& run, double plausible_cost) {
+  return relative_cost_cell(run, plausible_cost);
 }
 
 std::string timing_cells(const BackendRun& run, double plausible_cost) {

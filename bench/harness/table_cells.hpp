@@ -16,9 +16,13 @@ const char* yes_no_cell(const std::optional<bool>& value);
 // a depth in wire radii a, 3 significant digits
 std::string wire_radii_cell(double depth_m, double wire_radius);
 
-// wall ms per simulated second of the `plausible` run among `runs` (0 when it did not run)
+// wall ms per simulated second of the run of `backend` among `runs` (0 when it did not run)
+double backend_cost(const std::vector<BackendRun>& runs, const std::string& backend);
+// ... of the `plausible` run
 double plausible_cost(const std::vector<BackendRun>& runs);
-// a run's cost per simulated second relative to plausible's: "1.5x", "-" when unknown
+// a run's cost per simulated second relative to another's (`base`, wall ms per simulated second):
+// "1.5x", "-" when unknown
+std::string relative_cost_cell(const BackendRun& run, double base);
 std::string cost_vs_plausible_cell(const BackendRun& run, double plausible_cost);
 // dt (s) | ms/step | real-time factor | cost vs plausible
 std::string timing_cells(const BackendRun& run, double plausible_cost);

@@ -210,6 +210,20 @@ TEST(Bench, QuickModeWritesEveryResultsFile) {
     EXPECT_TRUE(fs::exists(out / file)) << file;
   }
   EXPECT_EQ(count_lines(out / "timing.csv"), 1 + 6 * 2);  // six scenes, two backends
+  // both backends are cheap: each row is the median of the quick bench's two runs, which ended on
+  // the same state; no ODE run, so no cost relative to it
+  std::ifstream timing(out / "timing.csv");
+  std::string header;
+  std::getline(timing, header);
+  EXPECT_EQ(header.substr(header.find(",hash,")), ",hash,runs,hashes_agree,cost_vs_ode");
+  for (std::string line; std::getline(timing, line);) {
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    ASSERT_EQ(cells.size(), 11u) << line;  // the last, empty cell ends the line
+    EXPECT_EQ(cells[9], "2") << line;
+    EXPECT_EQ(cells[10], "true") << line;
+  }
   if (!plotting_python().empty()) {
     EXPECT_TRUE(fs::exists(out / "sweep/curtain/sweep.png"));
     EXPECT_TRUE(fs::exists(out / "sweep/table_cloth/sweep.png"));

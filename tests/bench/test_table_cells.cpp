@@ -40,6 +40,17 @@ TEST(TableCells, CostPerSimulatedSecondRelativeToPlausible) {
   EXPECT_EQ(cost_vs_plausible_cell(bullet, 0.0), "-");
 }
 
+TEST(TableCells, CostPerSimulatedSecondRelativeToAnyBackend) {
+  const BackendRun ode = timed("ode", 0.001, 1000, 10.0);         // 10 ms a 1 ms step
+  const BackendRun torus = timed("torus_xpbd", 0.005, 200, 1.6);  // 8 ms a 5 ms step
+  const double cost = backend_cost({torus, ode}, "ode");
+  EXPECT_DOUBLE_EQ(cost, 10000.0);  // ms per simulated second
+  EXPECT_EQ(relative_cost_cell(torus, cost), "0.16x");
+  EXPECT_EQ(relative_cost_cell(ode, cost), "1x");
+  EXPECT_EQ(backend_cost({torus}, "ode"), 0.0);
+  EXPECT_EQ(relative_cost_cell(torus, 0.0), "-");
+}
+
 TEST(TableCells, FlagsDepthsAndCatenary) {
   EXPECT_STREQ(yes_no_cell(true), "yes");
   EXPECT_STREQ(yes_no_cell(false), "no");
