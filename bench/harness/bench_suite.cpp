@@ -222,7 +222,7 @@ void run_scenes(const BenchRun& bench) {
     OutputOptions output;
     output.render = bench.render;
     write_run_folder(run, options.folder, output);
-    if (interrupted()) break;
+    // (after a Ctrl-C the rows keep the one run: no more are taken)
     const TimingRows timing = timing_rows(
         run, options.threads, quick ? bench.plan.quick_timing_runs : bench.plan.timing_runs,
         bench.plan.timing_repeat_budget_s, bench.command.progress);
