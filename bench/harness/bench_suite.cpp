@@ -1,6 +1,7 @@
 #include "bench/harness/bench_suite.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -190,7 +191,8 @@ void add_rows(BenchTables& t, const SceneRun& run, const TimingRows& timing) {
                  << csv_number(r.realtime_factor()) << ',' << to_string(r.verdict) << ','
                  << std::hex << r.hash << std::dec << ',' << timing.counts[k] << ','
                  << (agree ? "true" : "false") << ',';
-    if (ode > 0.0 && r.dt > 0.0) t.timing_csv << csv_number((r.ms_per_step() / r.dt) / ode);
+    if (const double vs_ode = relative_cost(r, ode); !std::isnan(vs_ode))
+      t.timing_csv << csv_number(vs_ode);
     t.timing_csv << '\n';
   }
   for (const auto& r : run.runs) {

@@ -27,8 +27,12 @@ double plausible_cost(const std::vector<BackendRun>& runs) {
   return backend_cost(runs, "plausible");
 }
 
+double relative_cost(const BackendRun& run, double base) {
+  return base > 0 && run.dt > 0 ? (run.ms_per_step() / run.dt) / base : NAN;
+}
+
 std::string relative_cost_cell(const BackendRun& run, double base) {
-  const double relative = base > 0 && run.dt > 0 ? (run.ms_per_step() / run.dt) / base : NAN;
+  const double relative = relative_cost(run, base);
   return std::isnan(relative) ? "-" : table_number(relative, 3) + "x";
 }
 

@@ -20,8 +20,10 @@ std::string wire_radii_cell(double depth_m, double wire_radius);
 double backend_cost(const std::vector<BackendRun>& runs, const std::string& backend);
 // ... of the `plausible` run
 double plausible_cost(const std::vector<BackendRun>& runs);
-// a run's cost per simulated second relative to another's (`base`, wall ms per simulated second):
-// "1.5x", "-" when unknown
+// a run's cost per simulated second relative to another's (`base`, wall ms per simulated second),
+// NaN when unknown
+double relative_cost(const BackendRun& run, double base);
+// ... as a cell: "1.5x", "-" when unknown
 std::string relative_cost_cell(const BackendRun& run, double base);
 std::string cost_vs_plausible_cell(const BackendRun& run, double plausible_cost);
 // dt (s) | ms/step | real-time factor | cost vs plausible
