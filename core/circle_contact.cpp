@@ -29,6 +29,35 @@ const std::array<std::array<double, 2>, count>& sample_angles() {
   return table;
 }
 
+// (c, s) scaled to unit length; the zero vector is angle 0
+void unit_angle(double& c, double& s) {
+  const double norm2 = c * c + s * s;
+  const double inv = norm2 > 0.0 ? inverse_norm(norm2) : 0.0;
+  c = norm2 > 0.0 ? c * inv : 1.0, s = norm2 > 0.0 ? s * inv : 0.0;
+}
+
+// the second circle's point at the unit angle (c, s) and the first circle's point nearest to it
+ClosestPoints points_at_angle(const CircleFrame& a, const CircleFrame& b, double c, double s) {
+  ClosestPoints out;
+  out.cos_t = c, out.sin_t = s;
+  out.second = b.at(c, s);
+  const Vec3 w = out.second - a.centre;
+  const double height = w.dot(a.normal);  // m, above the first circle's plane
+  const Vec3 in_plane = w - height * a.normal;
+  const double rho = in_plane.norm();
+  // on the first circle's axis every point of it is equally near: take its angle 0
+  if (rho <= 1e-12 * a.radius) {
+    out.first = a.at(1, 0);
+    out.distance = (out.second - out.first).norm();
+    return out;
+  }
+  out.first = a.centre + (a.radius / rho) * in_plane;
+  // the distance in the half-plane through the axis (it waits on rho's root, not on `first`)
+  const double across = rho - a.radius;  // m
+  out.distance = std::sqrt(across * across + height * height);
+  return out;
+}
+
 }  // namespace
 
 const CirclePairDistance::Samples& CirclePairDistance::samples() {
@@ -78,11 +107,12 @@ CirclePairDistance::Slope CirclePairDistance::slope(double c, double s) const {
   const double g1 = ww1 - 2.0 * h * h1;
   const double g2 = ww2 - 2.0 * (h1 * h1 + h * h2);
   const double rho = std::sqrt(g);
+  // f' = ww1 - r1 g1 / rho and f'' = ww2 - r1 (g2 - g1^2 / (2 g)) / rho, times rho^3 = rho g
   Slope out{ww - 2.0 * r1_ * rho + r1_ * r1_, 0.0, 0.0, rho};
   if (rho > 0.0) {
-    const double inv_rho = 1.0 / rho;  // one division (g = rho^2)
-    out.f1 = ww1 - r1_ * g1 * inv_rho;
-    out.f2 = ww2 - r1_ * inv_rho * (g2 - 0.5 * g1 * g1 * inv_rho * inv_rho);
+    out.f1 = (ww1 * rho - r1_ * g1) * g;
+    out.f2 = ww2 * rho * g - r1_ * (g2 * g - 0.5 * g1 * g1);
+    out.rho3 = rho * g;
   }
   return out;
 }
@@ -96,7 +126,7 @@ void CirclePairDistance::newton(double& c, double& s, int max_steps, double tole
     double step;
     if (at.rho <= 1e-12 * r1_) {
       step = 0.25;
-    } else if (std::abs(at.f1) <= flat_) {
+    } else if (std::abs(at.f1) <= flat_ * at.rho3) {
       return;  // a minimum to round-off, or a circle of minima (coaxial circles)
     } else if (at.f2 > 0.0) {
       step = std::clamp(-at.f1 / at.f2, -0.5, 0.5);
@@ -123,24 +153,13 @@ void CirclePairDistance::newton(double& c, double& s, int max_steps, double tole
 }
 
 ClosestPoints CirclePairDistance::points_at(double c, double s) const {
-  const CircleFrame& a = *first_;
-  ClosestPoints out;
-  out.cos_t = c, out.sin_t = s;
-  out.second = second_->at(c, s);
-  const Vec3 w = out.second - a.centre;
-  const Vec3 in_plane = w - w.dot(a.normal) * a.normal;
-  const double rho = in_plane.norm();
-  // on the first circle's axis every point of it is equally near: take its angle 0
-  out.first = rho > 1e-12 * a.radius ? Vec3(a.centre + (a.radius / rho) * in_plane) : a.at(1, 0);
-  out.distance = (out.second - out.first).norm();
-  return out;
+  return points_at_angle(*first_, *second_, c, s);
 }
 
 ClosestPoints CirclePairDistance::refine(double cos_t, double sin_t, int max_steps,
                                          double tolerance) const {
-  const double norm2 = cos_t * cos_t + sin_t * sin_t;
-  const double inv = norm2 > 0.0 ? inverse_norm(norm2) : 0.0;
-  double c = norm2 > 0.0 ? cos_t * inv : 1.0, s = norm2 > 0.0 ? sin_t * inv : 0.0;
+  double c = cos_t, s = sin_t;
+  unit_angle(c, s);
   newton(c, s, max_steps, tolerance);
   return points_at(c, s);
 }
@@ -158,7 +177,11 @@ CircleFrame circle_frame(const Vec3& centre, const Vec3& normal, double radius) 
 
 ClosestPoints refine_closest_points(const CircleFrame& first, const CircleFrame& second,
                                     double cos_t, double sin_t, int max_steps, double tolerance) {
-  return CirclePairDistance(first, second).refine(cos_t, sin_t, max_steps, tolerance);
+  if (max_steps > 0)
+    return CirclePairDistance(first, second).refine(cos_t, sin_t, max_steps, tolerance);
+  // no step: the points at the start angle need none of the distance's terms
+  unit_angle(cos_t, sin_t);
+  return points_at_angle(first, second, cos_t, sin_t);
 }
 
 int local_closest_points(const CircleFrame& first, const CircleFrame& second, ClosestPoints* out,

@@ -65,9 +65,13 @@ class CirclePairDistance {
   static const Samples& samples();
 
  private:
+  // f, and its first two derivatives in t times rho^3 (their ratio, the Newton step, then takes
+  // one division, and their signs are theirs)
   struct Slope {
-    double f, f1, f2;  // f and its first two derivatives in t, m^2
-    double rho;        // m, distance of Q(t) from the first circle's axis
+    double f;           // m^2
+    double f1, f2;      // m^5
+    double rho;         // m, distance of Q(t) from the first circle's axis
+    double rho3 = 0.0;  // m^3
   };
   Slope slope(double c, double s) const;
   void newton(double& c, double& s, int max_steps, double tolerance) const;

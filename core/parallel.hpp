@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <new>
 #include <thread>
+#include <vector>
 
 #if defined(CHAINMAIL_HAS_OPENMP)
 #include <omp.h>
@@ -52,5 +54,25 @@ class PerThread {
   };
   std::array<Slot, N> slots_;
 };
+
+// an allocator whose blocks start on a cache line (64 bytes, x86-64 and most ARM cores): where
+// two threads write the items on either side of a boundary that falls on a line's edge, they
+// then write lines of their own
+template <class T>
+struct CacheLineAllocator {
+  using value_type = T;
+  static constexpr std::align_val_t kAlignment{64};
+  CacheLineAllocator() = default;
+  template <class U>
+  CacheLineAllocator(const CacheLineAllocator<U>&) noexcept {}
+  T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), kAlignment)); }
+  void deallocate(T* p, std::size_t) noexcept { ::operator delete(p, kAlignment); }
+  template <class U>
+  bool operator==(const CacheLineAllocator<U>&) const noexcept {
+    return true;
+  }
+};
+template <class T>
+using CacheLineVector = std::vector<T, CacheLineAllocator<T>>;
 
 }  // namespace chainmail

@@ -81,15 +81,15 @@ struct TorusXpbdModel {
 
 // changing state
 struct TorusXpbdState {
-  double t = 0.0;                          // s
-  std::vector<Vec3> position;              // (n) m, ring centre
-  std::vector<Quat> orientation;           // (n) local ring frame -> world
-  std::vector<Vec3> velocity;              // (n) m/s
-  std::vector<Vec3> angular_velocity;      // (n) rad/s, world frame
-  std::vector<Vec3> previous_position;     // (n) m, at the substep's start
-  std::vector<Quat> previous_orientation;  // (n) at the substep's start
-  std::vector<double> still_time;          // (n) s the ring has been at rest (sleeping)
-  std::vector<char> asleep;                // (n) 1: not integrated (sleeping)
+  double t = 0.0;                              // s
+  CacheLineVector<Vec3> position;              // (n) m, ring centre
+  CacheLineVector<Quat> orientation;           // (n) local ring frame -> world
+  CacheLineVector<Vec3> velocity;              // (n) m/s
+  CacheLineVector<Vec3> angular_velocity;      // (n) rad/s, world frame
+  CacheLineVector<Vec3> previous_position;     // (n) m, at the substep's start
+  CacheLineVector<Quat> previous_orientation;  // (n) at the substep's start
+  std::vector<double> still_time;              // (n) s the ring has been at rest (sleeping)
+  std::vector<char> asleep;                    // (n) 1: not integrated (sleeping)
 };
 
 // one local minimum of two rings' centre-circle distance, followed from substep to substep
@@ -105,7 +105,7 @@ struct PairSeed {
 };
 
 // two rings that may touch during this step, with the minima of their distance it follows
-struct RingPairContact {
+struct alignas(64) RingPairContact {
   int a = 0, b = 0;  // rings, a < b
   int seeds = 0;     // seeds in use
   std::array<PairSeed, 3> seed;
@@ -220,7 +220,9 @@ class TorusXpbdSim {
   void velocity_solve(double resting, double inv_h, int part, int contact);
   // rigid-body helpers
   Vec3 inverse_inertia_times(int ring, const Vec3& v) const;
-  double generalized_inverse_mass(int ring, const Vec3& arm, const Vec3& direction) const;
+  // (along a direction of squared length length2: the inverse mass along its unit times length2)
+  double generalized_inverse_mass(int ring, const Vec3& arm, const Vec3& direction,
+                                  double length2 = 1.0) const;
   void apply_correction(int ring, const Vec3& arm, const Vec3& impulse);
   // the velocity pass's per-ring terms of one contact (the ring's pose is fixed in the pass)
   struct RingTerms {
@@ -269,6 +271,7 @@ class TorusXpbdSim {
   std::vector<char> near_collider_;  // (n) 1: within kVelocityReach links of one that did before
   PerThread<std::vector<int>, kParts + 1> retry_;  // links solved once more in this substep
   bool retrying_ = false;                          // any of them left
+  bool seam_retrying_ = false;                     // any of the seam's left
   // ring-ring corrections of the first pass are over-relaxed: one Gauss-Seidel pass a substep
   // leaves a hanging sheet's contacts short by a share of the weight below them, and 1.3 takes a
   // third of that off (rigid contacts overshoot into a gap, never into each other)
@@ -283,8 +286,8 @@ class TorusXpbdSim {
   PerThread<long long, kParts + 1> velocity_solves_;  // by part, in this step
   std::uint64_t substep_ = 0;  // substeps taken: their stamps count from 1 (PairSeed::pushed)
   PerThread<std::vector<ColliderHold>, kParts> collider_holds_;
-  std::vector<Mat3> rotation_;  // (n) each ring's orientation as a matrix, kept in step with it
-  std::vector<Mat3> previous_rotation_;  // (n) the same at the substep's start
+  CacheLineVector<Mat3> rotation_;  // (n) each ring's orientation as a matrix, kept in step with it
+  CacheLineVector<Mat3> previous_rotation_;  // (n) the same at the substep's start
 };
 
 // ---- rigid-body helpers, inline for the contact loops. The inertia of a torus is symmetric
@@ -299,10 +302,10 @@ inline Vec3 TorusXpbdSim::inverse_inertia_times(int ring, const Vec3& v) const {
 
 // 1/m + (r x d) . I^-1 (r x d): the inverse mass a correction along `direction` at `arm` meets
 inline double TorusXpbdSim::generalized_inverse_mass(int ring, const Vec3& arm,
-                                                     const Vec3& direction) const {
+                                                     const Vec3& direction, double length2) const {
   if (model_.inverse_mass[ring] == 0.0) return 0.0;
   const Vec3 lever = arm.cross(direction);
-  return model_.inverse_mass[ring] + lever.dot(inverse_inertia_times(ring, lever));
+  return model_.inverse_mass[ring] * length2 + lever.dot(inverse_inertia_times(ring, lever));
 }
 
 // a positional correction (kg m) at `arm`: the centre moves by impulse / m, the orientation turns

@@ -101,7 +101,7 @@ double TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan, int 
                              : seed.recent        ? kSubstepNewton
                                                   : kResumeNewton;
     const ClosestPoints p =
-        CirclePairDistance(fa, fb).refine(seed.cos_t, seed.sin_t, newton_steps, 1e-10);
+        refine_closest_points(fa, fb, seed.cos_t, seed.sin_t, newton_steps, 1e-10);
     // the side is the seed's while it follows one minimum: circles that crossed within the
     // substep (wires pushed through each other) have their gap reversed, a negative distance
     const bool same = seed.recent && angle_cos(seed, p.cos_t, p.sin_t) > kSameMinimum;
@@ -326,8 +326,16 @@ Vec3 TorusXpbdSim::static_friction(int a, const Vec3& arm_a, int b, const Vec3& 
     tangent_axes(normal, t1, t2);
     return undo(t1, slip.dot(t1)) + undo(t2, slip.dot(t2));
   }
-  const double length = slip.norm();
-  return length > 0.0 ? undo((1.0 / length) * slip, length) : Vec3::Zero();
+  // the cone, along the slip itself: with k = |slip|^2 / (the inverse mass along it times
+  // |slip|^2 + the stiffness term's), undoing it takes |slip| k, and no square root
+  const double slip2 = slip.squaredNorm();  // m^2
+  const double w_slip2 = generalized_inverse_mass(a, arm_a, slip, slip2) +
+                         (b >= 0 ? generalized_inverse_mass(b, arm_b, slip, slip2) : 0.0);
+  if (!(slip2 > 0.0) || w_slip2 <= 0.0 || limit <= 0.0) return Vec3::Zero();
+  const double k = slip2 / (w_slip2 + stiffness_term * slip2);  // kg / m
+  if (slip2 * k * k >= limit * limit) return Vec3::Zero();
+  held = true;
+  return -k * slip;
 }
 
 // static friction against the colliders once more, after the rings' contacts have moved the rings:

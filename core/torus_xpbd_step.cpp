@@ -131,13 +131,25 @@ void TorusXpbdSim::run_substeps(double h, int substeps, int team, std::uint64_t 
       const auto seam_links = [&](bool first) {
         seam([&](int part) {
           solve_links(h, scan, part, first, stamp);
-          retrying_ = !(retry_[0].empty() && retry_[1].empty() && retry_[kSeam].empty());
+          seam_retrying_ = !retry_[kSeam].empty();
+          retrying_ = seam_retrying_ || !(retry_[0].empty() && retry_[1].empty());
         });
       };
       seam_links(true);
-      for (int pass = 0; pass < kRetryPasses && retrying_; ++pass) {
+      // the retry passes, each half's and then the seam's, while the seam has links to retry; then
+      // each half's remaining passes back to back, with no barrier between them: a half's retries
+      // move only its own rings, and a part's list only shrinks (the seam's, once empty, stays
+      // so), so the order, and the result, are those of taking every pass in turn
+      int pass = 0;
+      for (; pass < kRetryPasses && seam_retrying_; ++pass) {
         each_half([&](int part) { solve_links(h, scan, part, false, stamp); });
         seam_links(false);
+      }
+      if (pass < kRetryPasses && retrying_) {
+        each_half([&](int part) {
+          for (int more = pass; more < kRetryPasses && !retry_[part].empty(); ++more)
+            solve_links(h, scan, part, false, stamp);
+        });
       }
       if (!other_pairs_.empty()) {
         auto others = profile_.scope_if(lead, "self_contact");
@@ -145,7 +157,13 @@ void TorusXpbdSim::run_substeps(double h, int substeps, int team, std::uint64_t 
       }
     }
     // each half: the colliders' static friction once more, its velocities from the substep's
-    // motion, and what the velocity pass needs from the poses (which it does not change)
+    // motion, what the velocity pass needs from the poses (which it does not change), and the
+    // first velocity pass over its contacts (they join only its own rings, which it has just
+    // updated); then the seam's, prepared by the lead first. The later passes over every contact
+    // alternate the same way, and then those near colliders (none: no more passes; the lists are
+    // read by both threads here and written again only in the next substep's prepare)
+    const int passes = model_.settings.velocity_iterations;
+    const int everywhere = std::min(passes, kEveryContactPasses);
     each_half([&](int part) {
       if (colliders) {
         auto scope = profile_.scope_if(lead, "colliders");
@@ -157,20 +175,15 @@ void TorusXpbdSim::run_substeps(double h, int substeps, int team, std::uint64_t 
       }
       auto scope = profile_.scope_if(lead, "velocity_pass");
       prepare_velocity_pass(part);
+      if (everywhere > 0) velocity_sweep(h, part, true);
     });
-    // every contact in the first passes, then again those near colliders (none: no more passes;
-    // the lists are read by both threads here and written again only in the next substep's
-    // prepare). The seam's contacts are prepared by the lead beside the first pass over its half:
-    // the passes change velocities, not poses
     auto scope = profile_.scope_if(lead, "velocity_pass");
-    const int passes = model_.settings.velocity_iterations;
-    const int everywhere = std::min(passes, kEveryContactPasses);
     for (int iteration = 0; iteration < everywhere; ++iteration) {
-      each_half([&](int part) {
-        if (iteration == 0 && part == 0) prepare_velocity_pass(kSeam);
+      if (iteration > 0) each_half([&](int part) { velocity_sweep(h, part, true); });
+      seam([&](int part) {
+        if (iteration == 0) prepare_velocity_pass(part);
         velocity_sweep(h, part, true);
       });
-      seam([&](int part) { velocity_sweep(h, part, true); });
     }
     bool near_colliders = false;
     for (std::size_t part = 0; part < near_collider_contacts_.size(); ++part)
