@@ -137,23 +137,29 @@ void TorusXpbdSim::run_substeps(double h, int substeps, int team, std::uint64_t 
       };
       seam_links(true);
       // the retry passes, each half's and then the seam's, while the seam has links to retry; then
-      // each half's remaining passes back to back, with no barrier between them: a half's retries
-      // move only its own rings, and a part's list only shrinks (the seam's, once empty, stays
-      // so), so the order, and the result, are those of taking every pass in turn
+      // each half's remaining passes and its other pairs back to back, with no barrier between
+      // them, and the seam's other pairs. A half's retries and other pairs move only its own
+      // rings, and a part's list only shrinks (the seam's, once empty, stays so): the order, and
+      // the result, are those of taking every pass in turn
       int pass = 0;
       for (; pass < kRetryPasses && seam_retrying_; ++pass) {
         each_half([&](int part) { solve_links(h, scan, part, false, stamp); });
         seam_links(false);
       }
-      if (pass < kRetryPasses && retrying_) {
+      const bool others = !other_pairs_.empty();
+      if (others || (pass < kRetryPasses && retrying_)) {
         each_half([&](int part) {
           for (int more = pass; more < kRetryPasses && !retry_[part].empty(); ++more)
             solve_links(h, scan, part, false, stamp);
+          if (others) {
+            auto scope = profile_.scope_if(lead, "self_contact");
+            solve_other_pairs(h, scan, part, stamp);
+          }
         });
       }
-      if (!other_pairs_.empty()) {
-        auto others = profile_.scope_if(lead, "self_contact");
-        halves_then_seam([&](int part) { solve_other_pairs(h, scan, part, stamp); });
+      if (others) {
+        auto scope = profile_.scope_if(lead, "self_contact");
+        seam([&](int part) { solve_other_pairs(h, scan, part, stamp); });
       }
     }
     // each half: the colliders' static friction once more, its velocities from the substep's
