@@ -41,7 +41,7 @@ struct BenchPlan {
   // the timing table's runs of each backend whose first run stepped for at most
   // timing_repeat_budget_s (the median of them; one run of the others)
   int timing_runs = 3, quick_timing_runs = 2;
-  double timing_repeat_budget_s = 12.0;
+  double timing_repeat_budget_s = 20.0;
 };
 
 // what `chainmail bench` runs, in order
