@@ -329,9 +329,10 @@ Vec3 TorusXpbdSim::static_friction(int a, const Vec3& arm_a, int b, const Vec3& 
   // the cone, along the slip itself: with k = |slip|^2 / (the inverse mass along it times
   // |slip|^2 + the stiffness term's), undoing it takes |slip| k, and no square root
   const double slip2 = slip.squaredNorm();  // m^2
+  if (!(slip2 > 0.0) || limit <= 0.0) return Vec3::Zero();
   const double w_slip2 = generalized_inverse_mass(a, arm_a, slip, slip2) +
                          (b >= 0 ? generalized_inverse_mass(b, arm_b, slip, slip2) : 0.0);
-  if (!(slip2 > 0.0) || w_slip2 <= 0.0 || limit <= 0.0) return Vec3::Zero();
+  if (w_slip2 <= 0.0) return Vec3::Zero();
   const double k = slip2 / (w_slip2 + stiffness_term * slip2);  // kg / m
   if (slip2 * k * k >= limit * limit) return Vec3::Zero();
   held = true;
