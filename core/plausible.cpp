@@ -87,6 +87,8 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
         model_.pin_paths.order.empty() ? pin_paths(weave, pinned) : model_.pin_paths;
     model_.attachments = pin_attachments(weave, paths, pinned, max_length);
   }
+  // past the Newton steps' size the threads meet at band edges, not after every colour
+  if (n > settings.newton_max_rings) build_sweep_bands();
   model_.rigid = rigid_freedom(weave.rest_position, view(model_.inverse_mass));
   model_.colliders = scene.colliders;
   model_.gravity = scene.gravity;

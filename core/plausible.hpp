@@ -94,6 +94,24 @@ struct EdgeConstraint {
   double max_length;  // m
 };
 
+// the sweep's attachments, edges and diagonals as stages (an attachment list, a colour) cut into
+// bands of consecutive rings (core/plausible_bands.cpp), each band at least as wide as the
+// farthest any pair reaches (|a - b|): a pair joins its lower ring's band to itself or the next.
+// Each thread takes a run of bands through the stages in order and waits only where a
+// neighbouring band of another thread has not finished the stage before; the result is that of
+// the coloured sweep, stage after stage over the whole sheet
+struct SweepBands {
+  enum class Kind { attachments, edges, diagonals };
+  struct Stage {
+    Kind kind;
+    int list = 0;                 // attachments: which list
+    std::vector<int> band_start;  // (bands + 1) the stage's items of each band, into its list
+  };
+  std::vector<int> first_ring;  // (bands + 1)
+  std::vector<Stage> stages;    // in the sweep's order
+  int bands() const { return static_cast<int>(first_ring.size()) - 1; }
+};
+
 // fixed model: built once from the scene
 struct PlausibleModel {
   RingGeometry ring;
@@ -109,6 +127,9 @@ struct PlausibleModel {
   std::vector<EdgeConstraint> diagonals;  // by colour
   Colouring diagonal_colours;
   PinPaths pin_paths;  // 4-in-1 with swivel_from_pins: the rings breadth-first from the pins
+  // past the Newton steps' size: the attachments, edges and diagonals in bands (none: the sweeps
+  // wait for every thread after each colour)
+  SweepBands bands;
   std::vector<Collider> colliders;
   Vec3 gravity = Vec3::Zero();  // m/s^2
   RigidFreedom rigid;           // rigid motions the pins leave the sheet (damping spares them)
@@ -184,6 +205,11 @@ class PlausibleSim {
   double solve_edges(const std::vector<EdgeConstraint>& edges, const Colouring& colours);
   double solve_contacts();
   double solve_attachments();
+  // the attachments, edges and diagonals of a sweep, band by band (core/plausible_bands.cpp);
+  // the lists and colours are reordered by band within each colour (no result changes), m
+  void build_sweep_bands();
+  double solve_bands();
+  double solve_stage_band(const SweepBands::Stage& stage, int band);
   // the diagonal records and the neighbours' closest approach (core/plausible_weave.cpp), m
   double build_compression_limits();
   bool is_diagonal(int a, int b) const;

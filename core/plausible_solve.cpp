@@ -42,14 +42,20 @@ void PlausibleSim::solve_positions() {
   state_.newton_steps = 0;
   state_.residual = 0.0;
   const bool attached = !model_.attachments[0].empty();
+  const bool banded = !model_.bands.stages.empty();
   // the step's sweeps are shared among its substeps
   const int iterations = std::max(1, model_.settings.iterations / substep_count());
   while (state_.sweeps < iterations) {
     // the attachments first: the sheet-wide part of a stretch, then the edges fix the local one
-    double residual = attached ? solve_attachments() : 0.0;
-    residual = std::max(residual, solve_edges(model_.edges, model_.edge_colours));
-    if (!model_.diagonals.empty()) {
-      residual = std::max(residual, solve_edges(model_.diagonals, model_.diagonal_colours));
+    double residual = 0.0;  // m
+    if (banded) {
+      residual = solve_bands();
+    } else {
+      residual = attached ? solve_attachments() : 0.0;
+      residual = std::max(residual, solve_edges(model_.edges, model_.edge_colours));
+      if (!model_.diagonals.empty()) {
+        residual = std::max(residual, solve_edges(model_.diagonals, model_.diagonal_colours));
+      }
     }
     if (contacts) residual = std::max(residual, solve_contacts());
     if (colliders) residual = std::max(residual, collide());

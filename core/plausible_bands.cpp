@@ -1,0 +1,177 @@
+// The plausible model's sweeps on sheets past the Newton steps' size, with the threads meeting at
+// band edges instead of after every colour. A coloured sweep runs a dozen or more stages (the
+// attachment lists, the edge colours, the diagonal colours), and a team that waits for all its
+// threads after each stage waits for the slowest one a dozen times a sweep, 16 sweeps a step.
+// Here each thread takes a run of bands through all stages and waits only for the two bands at
+// the edges of its run, which its neighbours solve first in every stage: by the time it needs
+// them they are usually done. Pairs of one stage share no ring, and pairs of different stages
+// share rings only within a band or across a band edge, so each pair meets the very positions it
+// meets in the coloured sweep: the result is the same bits, on any thread count.
+#include <algorithm>
+#include <atomic>
+#include <cstdlib>
+#include <thread>
+
+#include "core/constraints.hpp"
+#include "core/parallel.hpp"
+#include "core/plausible.hpp"
+
+namespace chainmail {
+namespace {
+
+// bands a sheet is cut into (fewer where the pairs reach farther), and the fewest worth it: each
+// thread's run needs two bands or more, so that its interior gives the neighbours time to finish
+// the edge bands
+constexpr int kBands = 16;
+constexpr int kMinBands = 4;
+
+int band_of(const std::vector<int>& first_ring, int ring) {
+  return static_cast<int>(std::upper_bound(first_ring.begin(), first_ring.end(), ring) -
+                          first_ring.begin()) -
+         1;
+}
+
+// reorders each colour's pairs by the band of their lower ring (a colour's pairs are independent:
+// their order changes nothing) and adds one stage per colour
+void add_colour_stages(SweepBands::Kind kind, std::vector<EdgeConstraint>& pairs,
+                       const Colouring& colours, SweepBands& bands) {
+  auto band = [&](const EdgeConstraint& e) {
+    return band_of(bands.first_ring, std::min(e.a, e.b));
+  };
+  for (int c = 0; c < colours.colours(); ++c) {
+    const auto begin = pairs.begin() + colours.start[c], end = pairs.begin() + colours.start[c + 1];
+    std::stable_sort(begin, end, [&](const EdgeConstraint& x, const EdgeConstraint& y) {
+      return band(x) < band(y);
+    });
+    SweepBands::Stage stage{kind, 0, {}};
+    auto at = begin;
+    for (int k = 0; k <= bands.bands(); ++k) {
+      while (at != end && band(*at) < k) ++at;
+      stage.band_start.push_back(static_cast<int>(at - pairs.begin()));
+    }
+    bands.stages.push_back(std::move(stage));
+  }
+}
+
+// a band's count of finished stages, on a cache line of its own (threads poll their neighbours')
+struct alignas(64) BandProgress {
+  std::atomic<int> stages{0};
+};
+
+// waits until `band` has finished `stages` stages: a short spin (the usual case, its thread is a
+// band or so behind), then handing the core over (a thread preempted on a shared machine)
+void wait_for(const BandProgress& band, int stages) {
+  for (int spin = 0; band.stages.load(std::memory_order_acquire) < stages; ++spin) {
+    if (spin >= 256) std::this_thread::yield();
+  }
+}
+
+}  // namespace
+
+void PlausibleSim::build_sweep_bands() {
+  model_.bands = SweepBands{};
+  // a list that overflowed its colours has pairs sharing rings in one stage: no bands
+  if (model_.edge_colours.serial_tail || model_.diagonal_colours.serial_tail) return;
+  const int n = static_cast<int>(weave_.size());
+  // the farthest a pair reaches in ring indices: a band is at least that wide
+  int reach = 1;
+  for (const auto* pairs : {&model_.edges, &model_.diagonals}) {
+    for (const EdgeConstraint& e : *pairs) reach = std::max(reach, std::abs(e.a - e.b));
+  }
+  const int width = std::max(reach, (n + kBands - 1) / kBands);
+  const int count = (n + width - 1) / width;
+  if (count < kMinBands) return;
+  SweepBands& bands = model_.bands;
+  for (int k = 0; k <= count; ++k) bands.first_ring.push_back(std::min(n, k * width));
+  // the attachments first (each list a stage: it holds a ring once); they move only their ring
+  // (a pin never moves), so each goes with its ring's band
+  for (int list = 0; list < static_cast<int>(model_.attachments.size()); ++list) {
+    std::vector<PinAttachment>& items = model_.attachments[list];
+    if (items.empty()) continue;
+    std::stable_sort(items.begin(), items.end(),
+                     [&](const PinAttachment& x, const PinAttachment& y) {
+                       return band_of(bands.first_ring, x.ring) < band_of(bands.first_ring, y.ring);
+                     });
+    SweepBands::Stage stage{SweepBands::Kind::attachments, list, {}};
+    size_t at = 0;
+    for (int k = 0; k <= count; ++k) {
+      while (at < items.size() && band_of(bands.first_ring, items[at].ring) < k) ++at;
+      stage.band_start.push_back(static_cast<int>(at));
+    }
+    bands.stages.push_back(std::move(stage));
+  }
+  add_colour_stages(SweepBands::Kind::edges, model_.edges, model_.edge_colours, bands);
+  add_colour_stages(SweepBands::Kind::diagonals, model_.diagonals, model_.diagonal_colours, bands);
+}
+
+double PlausibleSim::solve_bands() {
+  auto scope = profile_.scope("constraints");
+  const SweepBands& bands = model_.bands;
+  const int count = bands.bands();
+  const int stages = static_cast<int>(bands.stages.size());
+  std::vector<BandProgress> progress(count);
+  const int team = parallel_loops_available() ? std::clamp(threads_, 1, count / 2) : 1;
+  double worst = 0.0;  // m
+#pragma omp parallel num_threads(team) reduction(max : worst)
+  {
+    // this thread's run of bands (from the team it got, which may be smaller than asked)
+    int members = 1, me = 0;
+#if defined(CHAINMAIL_HAS_OPENMP)
+    members = omp_get_num_threads();
+    me = omp_get_thread_num();
+#endif
+    const int first = count * me / members, last = count * (me + 1) / members;  // [first, last)
+    // the edge bands first, where the neighbouring runs wait, then the interior
+    std::vector<int> order = {last - 1};
+    if (first < last - 1) order.push_back(first);
+    for (int k = first + 1; k < last - 1; ++k) order.push_back(k);
+    for (int s = 0; s < stages; ++s) {
+      for (int k : order) {
+        // a neighbour's pairs of an earlier stage move this band's rings (the band below) or
+        // rings this band's pairs move (the band above): it must have finished them
+        if (k == first && k > 0) wait_for(progress[k - 1], s);
+        if (k == last - 1 && k + 1 < count) wait_for(progress[k + 1], s);
+        worst = std::max(worst, solve_stage_band(bands.stages[s], k));
+        progress[k].stages.store(s + 1, std::memory_order_release);
+      }
+    }
+  }
+  return worst;
+}
+
+double PlausibleSim::solve_stage_band(const SweepBands::Stage& stage, int band) {
+  Positions& p = state_.position;
+  const std::vector<double>& w = model_.inverse_mass;
+  const int begin = stage.band_start[band], end = stage.band_start[band + 1];
+  double worst = 0.0;  // m
+  if (stage.kind == SweepBands::Kind::attachments) {
+    const std::vector<PinAttachment>& list = model_.attachments[stage.list];
+    for (int k = begin; k < end; ++k) {
+      const PinAttachment& a = list[k];
+      Vec3 corr;
+      const double violation =
+          solve_attachment_constraint(p.col(a.ring), p.col(a.pin), a.max_distance, corr);
+      if (violation > 0.0) {
+        p.col(a.ring) += corr;
+        worst = std::max(worst, violation);
+      }
+    }
+    return worst;
+  }
+  const std::vector<EdgeConstraint>& pairs =
+      stage.kind == SweepBands::Kind::edges ? model_.edges : model_.diagonals;
+  for (int k = begin; k < end; ++k) {
+    const EdgeConstraint& e = pairs[k];
+    Vec3 corr0, corr1;
+    const double violation = solve_edge_constraint(p.col(e.a), w[e.a], p.col(e.b), w[e.b],
+                                                   e.min_length, e.max_length, corr0, corr1);
+    if (violation == 0.0) continue;
+    // a pin's correction is zero, and another thread may be reading the pin (its attachments)
+    if (w[e.a] != 0.0) p.col(e.a) += corr0;
+    if (w[e.b] != 0.0) p.col(e.b) += corr1;
+    worst = std::max(worst, violation);
+  }
+  return worst;
+}
+
+}  // namespace chainmail
