@@ -29,14 +29,47 @@ void SpatialHash::build(const Positions& points, double cell_size, int table_siz
                   ? std::array<std::int64_t, 3>{cell_of(p.x()), cell_of(p.y()), cell_of(p.z())}
                   : std::array<std::int64_t, 3>{kNone, 0, 0};
   }
+  // the box, and the finite points in index order: each part of the points on its own thread,
+  // the parts' boxes and lists joined in order after
   std::int64_t lo[3] = {0, 0, 0}, hi[3] = {-1, -1, -1};
-  for (int i = 0; i < n; ++i) {
-    if (cell[i][0] == kNone) continue;
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = finite.empty() ? cell[i][a] : std::min(lo[a], cell[i][a]);
-      hi[a] = finite.empty() ? cell[i][a] : std::max(hi[a], cell[i][a]);
+  struct Part {
+    std::int64_t lo[3], hi[3];
+    int begin = 0, count = 0;  // points, and finite points among them
+  };
+  std::vector<Part> parts(team);
+#pragma omp parallel for schedule(static) num_threads(team)
+  for (int t = 0; t < team; ++t) {
+    Part& part = parts[t];
+    part.begin = static_cast<int>(static_cast<long long>(n) * t / team);
+    const int end = static_cast<int>(static_cast<long long>(n) * (t + 1) / team);
+    for (int i = part.begin; i < end; ++i) {
+      if (cell[i][0] == kNone) continue;
+      for (int a = 0; a < 3; ++a) {
+        part.lo[a] = part.count == 0 ? cell[i][a] : std::min(part.lo[a], cell[i][a]);
+        part.hi[a] = part.count == 0 ? cell[i][a] : std::max(part.hi[a], cell[i][a]);
+      }
+      ++part.count;
     }
-    finite.push_back(i);
+  }
+  int finite_count = 0;
+  for (Part& part : parts) {
+    if (part.count == 0) continue;
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = finite_count == 0 ? part.lo[a] : std::min(lo[a], part.lo[a]);
+      hi[a] = finite_count == 0 ? part.hi[a] : std::max(hi[a], part.hi[a]);
+    }
+    const int first = finite_count;
+    finite_count += part.count;
+    part.count = first;  // now the part's first place in the finite list
+  }
+  finite.resize(finite_count);
+#pragma omp parallel for schedule(static) num_threads(team)
+  for (int t = 0; t < team; ++t) {
+    const int end = t + 1 < team ? parts[t + 1].begin : n;
+    int at = parts[t].count;
+    for (int i = parts[t].begin; i < end; ++i) {
+      if (cell[i][0] != kNone) finite[at++] = i;
+    }
   }
 
   // dense when the box holds at most 32 cells per point, or at most 4096 cells in all (small sets)
@@ -76,20 +109,54 @@ void SpatialHash::build(const Positions& points, double cell_size, int table_siz
     }
   }
 
-  // counting sort by bucket: count, prefix sum, scatter (stable: ascending index within a bucket)
-  bucket_start_.assign(static_cast<size_t>(table) + 1, 0);
-  for (int i : finite) ++bucket_start_[bucket_of[i] + 1];
-  for (std::int64_t b = 0; b < table; ++b) bucket_start_[b + 1] += bucket_start_[b];
+  // counting sort by bucket: count, prefix sum, scatter (stable: ascending index within a bucket).
+  // Each thread takes a range of buckets and the points that fall in it, so every bucket's points
+  // are placed by one thread in index order: the same layout for any thread count
+  bucket_start_.resize(static_cast<size_t>(table) + 1);
   std::vector<int>& fill = scratch_.fill;
-  fill.assign(bucket_start_.begin(), bucket_start_.end() - 1);
+  fill.resize(static_cast<size_t>(table));
   sorted_.resize(count);
   sorted_key_.resize(count);
   sorted_position_.resize(3, count);
-  for (int i : finite) {
-    const int slot = fill[bucket_of[i]]++;
-    sorted_[slot] = i;
-    sorted_key_[slot] = key_of[i];
-    sorted_position_.col(slot) = points.col(i);
+  const int sorters = loop_threads(threads, std::min<std::int64_t>(count, table), 4096);
+  std::vector<int> range_total(sorters + 1, 0);  // (sorters + 1) points before each range
+#pragma omp parallel num_threads(sorters)
+  {
+    int t = 0, members = 1;
+#if defined(CHAINMAIL_HAS_OPENMP)
+    t = omp_get_thread_num();
+    members = omp_get_num_threads();
+#endif
+    const std::int64_t first = table * t / members, last = table * (t + 1) / members;
+    // count the range's points into fill, then sum them up in place
+    std::fill(fill.begin() + first, fill.begin() + last, 0);
+    for (int i : finite) {
+      const int b = bucket_of[i];
+      if (b >= first && b < last) ++fill[b];
+    }
+    int total = 0;
+    for (std::int64_t b = first; b < last; ++b) {
+      const int here = fill[b];
+      fill[b] = total;
+      total += here;
+    }
+    range_total[t + 1] = total;
+#pragma omp barrier
+    int offset = 0;  // points in the ranges before this one
+    for (int r = 0; r <= t; ++r) offset += range_total[r];
+    for (std::int64_t b = first; b < last; ++b) {
+      fill[b] += offset;
+      bucket_start_[b] = fill[b];
+    }
+    if (t + 1 == members) bucket_start_[table] = count;
+    for (int i : finite) {
+      const int b = bucket_of[i];
+      if (b < first || b >= last) continue;
+      const int slot = fill[b]++;
+      sorted_[slot] = i;
+      sorted_key_[slot] = key_of[i];
+      sorted_position_.col(slot) = points.col(i);
+    }
   }
 }
 

@@ -5,6 +5,7 @@
 #include <random>
 #include <set>
 #include <utility>
+#include <vector>
 
 #include "core/spatial_hash.hpp"
 
@@ -79,6 +80,28 @@ TEST(SpatialHash, SpreadOutPointsUseTheHashedTable) {
   hash.build(x, 0.01);
   EXPECT_FALSE(hash.dense());
   expect_same_pairs(hash, x, 0.01);
+}
+
+TEST(SpatialHash, ThreadsBuildTheSameLayoutAndWalk) {
+  // enough points for the box, the finite list and the counting sort to split among threads, in
+  // both layouts, with non-finite points among them: the pairs come in the same order
+  for (const bool spread : {false, true}) {
+    Positions x = random_box(20000, Vec3(1.2, 1.2, 0.02), 5);
+    if (spread) {
+      for (int i = 0; i < x.cols(); i += 3) x.col(i) += Vec3(30.0, -20.0, 10.0);
+    }
+    for (int i = 7; i < x.cols(); i += 997) x(1, i) = std::numeric_limits<double>::quiet_NaN();
+    std::vector<std::pair<int, int>> walks[3];
+    for (int threads = 1; threads <= 3; ++threads) {
+      SpatialHash hash;
+      hash.build(x, 0.01, 0, threads);
+      EXPECT_EQ(hash.dense(), !spread);
+      hash.for_each_pair(x, 0.01, [&](int i, int j) { walks[threads - 1].push_back({i, j}); });
+    }
+    EXPECT_GT(walks[0].size(), 1000u);
+    EXPECT_EQ(walks[1], walks[0]);
+    EXPECT_EQ(walks[2], walks[0]);
+  }
 }
 
 TEST(SpatialHash, NegativeCoordinatesAndCellBoundaries) {
