@@ -184,19 +184,30 @@ void PlausibleSim::add_repulsion_forces() {
 
 void PlausibleSim::refresh_contact_candidates() {
   // a pair closer than the range now was closer than range + skin when the list was built, as
-  // long as no ring has moved more than half the skin since: only then is a rebuild needed
+  // long as no two rings have closed in by more than the skin since: no ring has moved more than
+  // half the skin, or all the rings' moves fit in a box whose diagonal is at most the skin (a
+  // sheet that falls or swings as a whole closes in on nothing). Only then is a rebuild needed
   const double skin = model_.settings.contact_skin * model_.repulsion_range;
   const int n = static_cast<int>(state_.position.cols());
   if (skin > 0.0 && state_.contact_anchor.cols() == n) {
-    const double limit2 = 0.25 * skin * skin;
     double farthest2 = 0.0;  // m^2
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    double lo_x = kInf, lo_y = kInf, lo_z = kInf;     // m, the box of the moves
+    double hi_x = -kInf, hi_y = -kInf, hi_z = -kInf;  // m
     const int team = loop_threads(threads_, n);
-#pragma omp parallel for schedule(static) num_threads(team) reduction(max : farthest2)
+#pragma omp parallel for schedule(static) num_threads(team) \
+    reduction(max                                           \
+              : farthest2, hi_x, hi_y, hi_z) reduction(min  \
+                                                       : lo_x, lo_y, lo_z)
     for (int i = 0; i < n; ++i) {
-      farthest2 = std::max(farthest2,
-                           (state_.position.col(i) - state_.contact_anchor.col(i)).squaredNorm());
+      const Vec3 move = state_.position.col(i) - state_.contact_anchor.col(i);
+      farthest2 = std::max(farthest2, move.squaredNorm());
+      lo_x = std::min(lo_x, move.x()), hi_x = std::max(hi_x, move.x());
+      lo_y = std::min(lo_y, move.y()), hi_y = std::max(hi_y, move.y());
+      lo_z = std::min(lo_z, move.z()), hi_z = std::max(hi_z, move.z());
     }
-    if (farthest2 <= limit2) return;
+    const double diagonal2 = Vec3(hi_x - lo_x, hi_y - lo_y, hi_z - lo_z).squaredNorm();  // m^2
+    if (farthest2 <= 0.25 * skin * skin || diagonal2 <= skin * skin) return;
   }
   const double radius = model_.repulsion_range + skin;
   hash_.build(state_.position, radius, 0, threads_);

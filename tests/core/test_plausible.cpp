@@ -314,6 +314,26 @@ TEST(Plausible, ContactCandidatesHoldEveryPairInRange) {
   EXPECT_LT(sim.state().contact_rebuilds, steps / 2);
 }
 
+TEST(Plausible, FallingSheetKeepsItsContactCandidates) {
+  // a sheet dropped flat, nothing pinned: every ring falls alike, so no two rings close in and
+  // the candidate list built at the start holds, however far the sheet falls (a rebuild on each
+  // ring's own move would come every 2 mm of fall, a dozen times over these 0.2 s)
+  const Scene scene = scene_from_json(
+      json{{"name", "drop"},
+           {"weave", {{"type", "4in1"}, {"rows", 16}, {"cols", 16}, {"plane", "xz"}}},
+           {"features", {{"self_contact", true}}},
+           {"duration", 1.0}},
+      "test");
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  PlausibleSim sim;
+  sim.reset(scene, weave, PlausibleSettings{});
+  const double y0 = sim.state().position(1, 0);
+  for (int s = 0; s < 50; ++s) sim.step(0.004);
+  const double skin = sim.model().settings.contact_skin * sim.model().repulsion_range;  // m
+  EXPECT_GT(y0 - sim.state().position(1, 0), 20 * skin);
+  EXPECT_EQ(sim.state().contact_rebuilds, 1);
+}
+
 TEST(Plausible, SameSceneTwiceSameHash) {
   const Scene scene = curtain(10, 10);
   const Weave weave = make_weave(scene.weave, scene.ring);
