@@ -195,10 +195,10 @@ void PlausibleSim::refresh_contact_candidates() {
     double lo_x = kInf, lo_y = kInf, lo_z = kInf;     // m, the box of the moves
     double hi_x = -kInf, hi_y = -kInf, hi_z = -kInf;  // m
     const int team = loop_threads(threads_, n);
+    // clang-format off
 #pragma omp parallel for schedule(static) num_threads(team) \
-    reduction(max                                           \
-              : farthest2, hi_x, hi_y, hi_z) reduction(min  \
-                                                       : lo_x, lo_y, lo_z)
+    reduction(max : farthest2, hi_x, hi_y, hi_z) reduction(min : lo_x, lo_y, lo_z)
+    // clang-format on
     for (int i = 0; i < n; ++i) {
       const Vec3 move = state_.position.col(i) - state_.contact_anchor.col(i);
       farthest2 = std::max(farthest2, move.squaredNorm());
