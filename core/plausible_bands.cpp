@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>
-#include <thread>
 
 #include "core/constraints.hpp"
 #include "core/parallel.hpp"
@@ -59,11 +58,23 @@ struct alignas(64) BandProgress {
 };
 
 // waits until `band` has finished `stages` stages: a short spin (the usual case, its thread is a
-// band or so behind), then handing the core over (a thread preempted on a shared machine)
+// band or so behind), then asleep until the band's thread reports (that thread may be waiting for
+// a core on a busy machine: spinning or yielding here would take the core it needs)
 void wait_for(const BandProgress& band, int stages) {
-  for (int spin = 0; band.stages.load(std::memory_order_acquire) < stages; ++spin) {
-    if (spin >= 256) std::this_thread::yield();
+  constexpr int kSpins = 2000;
+  for (int spin = 0; spin < kSpins; ++spin) {
+    if (band.stages.load(std::memory_order_acquire) >= stages) return;
   }
+  for (int done = band.stages.load(std::memory_order_acquire); done < stages;
+       done = band.stages.load(std::memory_order_acquire)) {
+    band.stages.wait(done, std::memory_order_acquire);
+  }
+}
+
+// records that `band` has finished `stages` stages and wakes a thread asleep on it
+void report(BandProgress& band, int stages) {
+  band.stages.store(stages, std::memory_order_release);
+  band.stages.notify_all();
 }
 
 }  // namespace
@@ -132,7 +143,7 @@ double PlausibleSim::solve_bands() {
         if (k == first && k > 0) wait_for(progress[k - 1], s);
         if (k == last - 1 && k + 1 < count) wait_for(progress[k + 1], s);
         worst = std::max(worst, solve_stage_band(bands.stages[s], k));
-        progress[k].stages.store(s + 1, std::memory_order_release);
+        report(progress[k], s + 1);
       }
     }
   }
@@ -146,16 +157,7 @@ double PlausibleSim::solve_stage_band(const SweepBands::Stage& stage, int band) 
   double worst = 0.0;  // m
   if (stage.kind == SweepBands::Kind::attachments) {
     const std::vector<PinAttachment>& list = model_.attachments[stage.list];
-    for (int k = begin; k < end; ++k) {
-      const PinAttachment& a = list[k];
-      Vec3 corr;
-      const double violation =
-          solve_attachment_constraint(p.col(a.ring), p.col(a.pin), a.max_distance, corr);
-      if (violation > 0.0) {
-        p.col(a.ring) += corr;
-        worst = std::max(worst, violation);
-      }
-    }
+    for (int k = begin; k < end; ++k) worst = std::max(worst, project_attachment(list[k]));
     return worst;
   }
   const std::vector<EdgeConstraint>& pairs =

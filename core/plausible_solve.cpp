@@ -183,25 +183,24 @@ double PlausibleSim::solve_edges(const std::vector<EdgeConstraint>& edges,
 
 double PlausibleSim::solve_attachments() {
   auto scope = profile_.scope("constraints");
-  Positions& p = state_.position;
   double worst = 0.0;  // m
   // each list holds a ring once: its projections are independent
   for (const std::vector<PinAttachment>& list : model_.attachments) {
     const int count = static_cast<int>(list.size());
     const int team = loop_threads(threads_, count);
 #pragma omp parallel for schedule(static) num_threads(team) reduction(max : worst)
-    for (int k = 0; k < count; ++k) {
-      const PinAttachment& a = list[k];
-      Vec3 corr;
-      const double violation =
-          solve_attachment_constraint(p.col(a.ring), p.col(a.pin), a.max_distance, corr);
-      if (violation > 0.0) {
-        p.col(a.ring) += corr;
-        worst = std::max(worst, violation);
-      }
-    }
+    for (int k = 0; k < count; ++k) worst = std::max(worst, project_attachment(list[k]));
   }
   return worst;
+}
+
+double PlausibleSim::project_attachment(const PinAttachment& a) {
+  Positions& p = state_.position;
+  Vec3 corr;
+  const double violation =
+      solve_attachment_constraint(p.col(a.ring), p.col(a.pin), a.max_distance, corr);
+  if (violation > 0.0) p.col(a.ring) += corr;
+  return violation;
 }
 
 void PlausibleSim::propagate_from_pins() {
