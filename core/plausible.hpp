@@ -205,8 +205,6 @@ class PlausibleSim {
   double solve_edges(const std::vector<EdgeConstraint>& edges, const Colouring& colours);
   double solve_contacts();
   double solve_attachments();
-  // one attachment projected (it moves only its ring); its violation (<= 0: none), m
-  double project_attachment(const PinAttachment& attachment);
   // the attachments, edges and diagonals of a sweep, band by band (core/plausible_bands.cpp);
   // the lists and colours are reordered by band within each colour (no result changes), m
   void build_sweep_bands();

@@ -14,6 +14,7 @@
 #include "core/constraints.hpp"
 #include "core/parallel.hpp"
 #include "core/plausible.hpp"
+#include "core/plausible_sweep.hpp"
 
 namespace chainmail {
 namespace {
@@ -151,28 +152,18 @@ double PlausibleSim::solve_bands() {
 }
 
 double PlausibleSim::solve_stage_band(const SweepBands::Stage& stage, int band) {
-  Positions& p = state_.position;
-  const std::vector<double>& w = model_.inverse_mass;
+  double* const x = state_.position.data();            // (3 n) m
+  const double* const w = model_.inverse_mass.data();  // (n) 1/kg
   const int begin = stage.band_start[band], end = stage.band_start[band + 1];
   double worst = 0.0;  // m
   if (stage.kind == SweepBands::Kind::attachments) {
-    const std::vector<PinAttachment>& list = model_.attachments[stage.list];
-    for (int k = begin; k < end; ++k) worst = std::max(worst, project_attachment(list[k]));
+    const PinAttachment* const list = model_.attachments[stage.list].data();
+    for (int k = begin; k < end; ++k) worst = std::max(worst, sweep_attachment(x, list[k]));
     return worst;
   }
-  const std::vector<EdgeConstraint>& pairs =
-      stage.kind == SweepBands::Kind::edges ? model_.edges : model_.diagonals;
-  for (int k = begin; k < end; ++k) {
-    const EdgeConstraint& e = pairs[k];
-    Vec3 corr0, corr1;
-    const double violation = solve_edge_constraint(p.col(e.a), w[e.a], p.col(e.b), w[e.b],
-                                                   e.min_length, e.max_length, corr0, corr1);
-    if (violation == 0.0) continue;
-    // a pin's correction is zero, and another thread may be reading the pin (its attachments)
-    if (w[e.a] != 0.0) p.col(e.a) += corr0;
-    if (w[e.b] != 0.0) p.col(e.b) += corr1;
-    worst = std::max(worst, violation);
-  }
+  const EdgeConstraint* const pairs =
+      (stage.kind == SweepBands::Kind::edges ? model_.edges : model_.diagonals).data();
+  for (int k = begin; k < end; ++k) worst = std::max(worst, sweep_pair(x, w, pairs[k]));
   return worst;
 }
 

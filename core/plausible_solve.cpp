@@ -9,6 +9,7 @@
 #include "core/constraints.hpp"
 #include "core/parallel.hpp"
 #include "core/plausible.hpp"
+#include "core/plausible_sweep.hpp"
 #include "core/projection.hpp"
 
 namespace chainmail {
@@ -167,40 +168,23 @@ double PlausibleSim::collider_rows(double near, std::vector<ProjectionRow>& rows
 double PlausibleSim::solve_edges(const std::vector<EdgeConstraint>& edges,
                                  const Colouring& colours) {
   auto scope = profile_.scope("constraints");
-  Positions& p = state_.position;
-  const std::vector<double>& w = model_.inverse_mass;
-  return sweep_colours(colours, threads_, [&](int k) {
-    const EdgeConstraint& e = edges[k];
-    Vec3 corr0, corr1;
-    const double violation = solve_edge_constraint(p.col(e.a), w[e.a], p.col(e.b), w[e.b],
-                                                   e.min_length, e.max_length, corr0, corr1);
-    if (violation == 0.0) return 0.0;
-    p.col(e.a) += corr0;
-    p.col(e.b) += corr1;
-    return violation;
-  });
+  double* const x = state_.position.data();            // (3 n) m
+  const double* const w = model_.inverse_mass.data();  // (n) 1/kg
+  return sweep_colours(colours, threads_, [&](int k) { return sweep_pair(x, w, edges[k]); });
 }
 
 double PlausibleSim::solve_attachments() {
   auto scope = profile_.scope("constraints");
-  double worst = 0.0;  // m
+  double* const x = state_.position.data();  // (3 n) m
+  double worst = 0.0;                        // m
   // each list holds a ring once: its projections are independent
   for (const std::vector<PinAttachment>& list : model_.attachments) {
     const int count = static_cast<int>(list.size());
     const int team = loop_threads(threads_, count);
 #pragma omp parallel for schedule(static) num_threads(team) reduction(max : worst)
-    for (int k = 0; k < count; ++k) worst = std::max(worst, project_attachment(list[k]));
+    for (int k = 0; k < count; ++k) worst = std::max(worst, sweep_attachment(x, list[k]));
   }
   return worst;
-}
-
-double PlausibleSim::project_attachment(const PinAttachment& a) {
-  Positions& p = state_.position;
-  Vec3 corr;
-  const double violation =
-      solve_attachment_constraint(p.col(a.ring), p.col(a.pin), a.max_distance, corr);
-  if (violation > 0.0) p.col(a.ring) += corr;
-  return violation;
 }
 
 void PlausibleSim::propagate_from_pins() {
