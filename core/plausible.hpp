@@ -31,8 +31,9 @@ struct PlausibleSettings {
   int newton_steps = 30;
   // equal substeps per step, each a full predict-solve-velocity pass with iterations / substeps
   // sweeps (at least one): the same sweeps, but a stretch left by one substep is g (dt/s)^2 small
-  // (Macklin et al. 2019, "Small Steps"). 0: 1 where the Newton steps run, 16 (of one sweep
-  // each) on larger scenes, whose sweeps alone do not converge
+  // (Macklin et al. 2019, "Small Steps"). 0: 1 where the Newton steps run; on larger scenes,
+  // whose sweeps alone do not converge, 16 of one sweep each, and up to 64 while the links
+  // stretch toward the inner diameter
   int substeps = 0;
   // the links' largest length from the ring geometry, for the two rings as the model turns them at
   // full extension (exact circle-circle distance); where the geometry gives none (4-in-1 at the
@@ -161,11 +162,17 @@ struct PlausibleState {
   // left (the last sweep's, or the edges' and colliders' after the Newton steps)
   int sweeps = 0;
   int newton_steps = 0;
+  int substeps = 0;  // automatic substeps past the Newton steps' size: what the next step takes
   double residual = 0.0;  // m
 };
 
 class PlausibleSim {
  public:
+  // past the Newton steps' size with automatic substeps: at least kLargeSheetSubsteps, more (up to
+  // kMaxSubsteps) while the sweeps leave links stretched toward the inner diameter
+  static constexpr int kLargeSheetSubsteps = 16;
+  static constexpr int kMaxSubsteps = 64;
+
   void reset(const Scene& scene, const Weave& weave, const PlausibleSettings& settings);
   void step(double dt);
   void frame(RingFrame& out) const;
@@ -188,7 +195,15 @@ class PlausibleSim {
   void accumulate_forces();
   void add_repulsion_forces();
   void refresh_contact_candidates();
+  // the substeps of the next step (automatic: 1 where the Newton steps run, else the control's)
   int substep_count() const;
+  // automatic substeps past the Newton steps' size: the last sweep's largest violation above the
+  // control level (of the longest link) adds substeps for the next step, and up to kExtraSweeps
+  // sweeps at once to the substep that met it
+  bool controls_substeps() const;
+  double stretch_control_level() const;
+  void control_substeps();
+  static constexpr int kExtraSweeps = 4;
   // one predict-solve-update pass of h seconds; damps as for damp_dt seconds (0: not at all)
   void substep(double h, double damp_dt);
   void integrate(double dt);

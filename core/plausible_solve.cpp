@@ -46,7 +46,11 @@ void PlausibleSim::solve_positions() {
   const bool banded = !model_.bands.stages.empty();
   // the step's sweeps are shared among its substeps
   const int iterations = std::max(1, model_.settings.iterations / substep_count());
-  while (state_.sweeps < iterations) {
+  // with the substeps under control, up to kExtraSweeps more while a sweep meets links stretched
+  // past the control level: a sheet that snaps taut is held at once, not a step later
+  const int extra = controls_substeps() ? kExtraSweeps : 0;
+  const double control = stretch_control_level() * model_.longest_link;  // m
+  while (state_.sweeps < iterations + extra) {
     // the attachments first: the sheet-wide part of a stretch, then the edges fix the local one
     double residual = 0.0;  // m
     if (banded) {
@@ -63,6 +67,7 @@ void PlausibleSim::solve_positions() {
     ++state_.sweeps;
     state_.residual = residual;
     if (residual <= tolerance) return;
+    if (state_.sweeps >= iterations && residual <= control) break;
   }
   // what the sweeps leave (the slow, sheet-wide part: a long hanging chain, a sheet over a table
   // edge), Newton steps on the edges and colliders together remove
