@@ -3,6 +3,10 @@
 #ifndef CHAINMAIL_VERSION
 #define CHAINMAIL_VERSION "unknown"
 #endif
+// the commit, written at build time (cmake/commit_stamp.cmake)
+#if __has_include("chainmail_commit.inc")
+#include "chainmail_commit.inc"
+#endif
 #ifndef CHAINMAIL_COMMIT
 #define CHAINMAIL_COMMIT "unknown"
 #endif
