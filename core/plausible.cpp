@@ -152,10 +152,13 @@ double PlausibleSim::stretch_control_level() const {
 void PlausibleSim::control_substeps() {
   // one sweep a substep leaves a stretch that grows with (dt / substeps)^2 and with the rows a
   // sheet hangs by: a 256 x 256 curtain on 16 substeps stretches its links 1.9 % past the longest
-  // link at rest and 4.9 % (1.016 ID) as it swings back at 0.6 s. The last sweep's largest
-  // violation measures it at no cost: above three quarters of the way to a link at the inner
-  // diameter, the next step takes a quarter more substeps (the stretch falls with their square:
-  // 36 % less); under half of that, an eighth fewer, down to the fixed count
+  // link at rest and 4.9 % (1.016 ID) as it swings back at 0.6 s. The control reads the largest
+  // violation of any kind the last sweep met (a link stretched, rings pressed closer than their
+  // bounds), at no cost: it rises while the sheet swings and folds, before the links reach their
+  // worst (their own violation alone rises too late: 1.004 ID at 0.5 s). Above three quarters of
+  // the way to a link at the inner diameter, the next step takes a quarter more substeps (what
+  // they leave falls with their square: 36 % less); under half of that, an eighth fewer, down to
+  // the fixed count
   const double high = stretch_control_level(), low = 0.5 * high;   // of the longest link
   const double violation = state_.residual / model_.longest_link;  // of the longest link
   const int now = state_.substeps;

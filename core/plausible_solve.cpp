@@ -46,8 +46,8 @@ void PlausibleSim::solve_positions() {
   const bool banded = !model_.bands.stages.empty();
   // the step's sweeps are shared among its substeps
   const int iterations = std::max(1, model_.settings.iterations / substep_count());
-  // with the substeps under control, up to kExtraSweeps more while a sweep meets links stretched
-  // past the control level: a sheet that snaps taut is held at once, not a step later
+  // with the substeps under control, up to kExtraSweeps more while a sweep meets a violation past
+  // the control level (control_substeps): the substep that meets it is not left with it
   const int extra = controls_substeps() ? kExtraSweeps : 0;
   const double control = stretch_control_level() * model_.longest_link;  // m
   while (state_.sweeps < iterations + extra) {
