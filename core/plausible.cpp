@@ -166,8 +166,6 @@ void PlausibleSim::control_substeps() {
     state_.substeps = std::min(kMaxSubsteps, now + std::max(1, now / 4));
   } else if (violation < low) {
     state_.substeps = std::max(kLargeSheetSubsteps, now - std::max(1, now / 8));
-  } else {
-    state_.substeps = now;
   }
 }
 
