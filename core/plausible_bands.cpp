@@ -144,7 +144,8 @@ double PlausibleSim::solve_bands() {
         if (k == first && k > 0) wait_for(progress[k - 1], s);
         if (k == last - 1 && k + 1 < count) wait_for(progress[k + 1], s);
         worst = std::max(worst, solve_stage_band(bands.stages[s], k));
-        report(progress[k], s + 1);
+        // only the run's edge bands are waited for
+        if (k == first || k == last - 1) report(progress[k], s + 1);
       }
     }
   }
