@@ -95,6 +95,21 @@ struct EdgeConstraint {
   double max_length;  // m
 };
 
+// four pairs of a stage solved together in SIMD lanes (core/plausible_blocks), or one alone
+struct PairBlock {
+  enum class Kind : int {
+    single,    // pairs[pair] alone (scalar)
+    run,       // (a + i, b + i), i = 0..3, the two runs of rings apart
+    adjacent,  // (a + 2 i, a + 2 i + 1), i = 0..3: rings a .. a + 7
+  };
+  int a = 0, b = 0;  // the first pair's rings
+  Kind kind = Kind::single;
+  int pair = 0;  // the first pair's index in the stage's list
+  // m, the four pairs' bounds where they share them (else read from the pairs)
+  bool shared_bounds = true;
+  double min_length = 0.0, max_length = 0.0;
+};
+
 // the sweep's attachments, edges and diagonals as stages (an attachment list, a colour) cut into
 // bands of consecutive rings (core/plausible_bands.cpp), each band at least as wide as the
 // farthest any pair reaches (|a - b|): a pair joins its lower ring's band to itself or the next.
@@ -104,9 +119,12 @@ struct EdgeConstraint {
 struct SweepBands {
   enum class Kind { attachments, edges, diagonals };
   struct Stage {
-    Kind kind;
+    Kind kind = Kind::edges;
     int list = 0;                 // attachments: which list
     std::vector<int> band_start;  // (bands + 1) the stage's items of each band, into its list
+    // edges and diagonals: the stage's pairs as blocks, band by band
+    std::vector<PairBlock> blocks;
+    std::vector<int> block_start;  // (bands + 1) each band's blocks, into blocks
   };
   std::vector<int> first_ring;  // (bands + 1)
   std::vector<Stage> stages;    // in the sweep's order
@@ -180,6 +198,13 @@ class PlausibleSim {
   // result); 1 by default
   void set_threads(int threads) { threads_ = threads < 1 ? 1 : threads; }
   int threads() const { return threads_; }
+  // the banded sweeps' pairs four at a time in SIMD lanes where the machine has them (on by
+  // default; the same bits either way: off serves to compare)
+  void set_vector_sweeps(bool on) { vector_sweeps_ = on; }
+  bool vector_sweeps() const { return vector_sweeps_; }
+  // past the Newton steps' size the sweeps go band by band (core/plausible_bands.cpp), or colour by
+  // colour with all threads meeting after each (off: the same bits, for comparison)
+  void set_banded_sweeps(bool on) { banded_sweeps_ = on; }
 
   const PlausibleModel& model() const { return model_; }
   const PlausibleState& state() const {
@@ -203,7 +228,7 @@ class PlausibleSim {
   bool controls_substeps() const;
   double stretch_control_level() const;
   void control_substeps();
-  static constexpr int kExtraSweeps = 4;
+  static constexpr int kExtraSweeps = 8;
   // one predict-solve-update pass of h seconds; damps as for damp_dt seconds (0: not at all)
   void substep(double h, double damp_dt);
   void integrate(double dt);
@@ -246,6 +271,8 @@ class PlausibleSim {
   Projection projection_;  // the Newton steps' factorisation, kept between steps
   StageProfile profile_;
   int threads_ = 1;
+  bool vector_sweeps_ = true;
+  bool banded_sweeps_ = true;
 };
 
 }  // namespace chainmail

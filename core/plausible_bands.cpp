@@ -14,6 +14,7 @@
 #include "core/constraints.hpp"
 #include "core/parallel.hpp"
 #include "core/plausible.hpp"
+#include "core/plausible_blocks.hpp"
 #include "core/plausible_sweep.hpp"
 
 namespace chainmail {
@@ -32,9 +33,10 @@ int band_of(const std::vector<int>& first_ring, int ring) {
 }
 
 // reorders each colour's pairs by the band of their lower ring (a colour's pairs are independent:
-// their order changes nothing) and adds one stage per colour
+// their order changes nothing) and adds one stage per colour, its pairs also as blocks of four
 void add_colour_stages(SweepBands::Kind kind, std::vector<EdgeConstraint>& pairs,
-                       const Colouring& colours, SweepBands& bands) {
+                       const Colouring& colours, const std::vector<double>& inverse_mass,
+                       SweepBands& bands) {
   auto band = [&](const EdgeConstraint& e) {
     return band_of(bands.first_ring, std::min(e.a, e.b));
   };
@@ -43,11 +45,19 @@ void add_colour_stages(SweepBands::Kind kind, std::vector<EdgeConstraint>& pairs
     std::stable_sort(begin, end, [&](const EdgeConstraint& x, const EdgeConstraint& y) {
       return band(x) < band(y);
     });
-    SweepBands::Stage stage{kind, 0, {}};
+    SweepBands::Stage stage;
+    stage.kind = kind;
     auto at = begin;
     for (int k = 0; k <= bands.bands(); ++k) {
       while (at != end && band(*at) < k) ++at;
       stage.band_start.push_back(static_cast<int>(at - pairs.begin()));
+    }
+    stage.block_start.push_back(0);
+    for (int k = 0; k < bands.bands(); ++k) {
+      const std::vector<PairBlock> band = make_pair_blocks(pairs.data(), stage.band_start[k],
+                                                           stage.band_start[k + 1], inverse_mass);
+      stage.blocks.insert(stage.blocks.end(), band.begin(), band.end());
+      stage.block_start.push_back(static_cast<int>(stage.blocks.size()));
     }
     bands.stages.push_back(std::move(stage));
   }
@@ -100,11 +110,13 @@ void PlausibleSim::build_sweep_bands() {
   for (int list = 0; list < static_cast<int>(model_.attachments.size()); ++list) {
     std::vector<PinAttachment>& items = model_.attachments[list];
     if (items.empty()) continue;
-    std::stable_sort(items.begin(), items.end(),
-                     [&](const PinAttachment& x, const PinAttachment& y) {
-                       return band_of(bands.first_ring, x.ring) < band_of(bands.first_ring, y.ring);
-                     });
-    SweepBands::Stage stage{SweepBands::Kind::attachments, list, {}};
+    // by ring, hence by band, and in runs of consecutive rings for the vector sweep (a list's
+    // projections are independent: their order changes nothing)
+    std::sort(items.begin(), items.end(),
+              [](const PinAttachment& x, const PinAttachment& y) { return x.ring < y.ring; });
+    SweepBands::Stage stage;
+    stage.kind = SweepBands::Kind::attachments;
+    stage.list = list;
     size_t at = 0;
     for (int k = 0; k <= count; ++k) {
       while (at < items.size() && band_of(bands.first_ring, items[at].ring) < k) ++at;
@@ -112,8 +124,10 @@ void PlausibleSim::build_sweep_bands() {
     }
     bands.stages.push_back(std::move(stage));
   }
-  add_colour_stages(SweepBands::Kind::edges, model_.edges, model_.edge_colours, bands);
-  add_colour_stages(SweepBands::Kind::diagonals, model_.diagonals, model_.diagonal_colours, bands);
+  add_colour_stages(SweepBands::Kind::edges, model_.edges, model_.edge_colours, model_.inverse_mass,
+                    bands);
+  add_colour_stages(SweepBands::Kind::diagonals, model_.diagonals, model_.diagonal_colours,
+                    model_.inverse_mass, bands);
 }
 
 double PlausibleSim::solve_bands() {
@@ -159,11 +173,17 @@ double PlausibleSim::solve_stage_band(const SweepBands::Stage& stage, int band) 
   double worst = 0.0;  // m
   if (stage.kind == SweepBands::Kind::attachments) {
     const PinAttachment* const list = model_.attachments[stage.list].data();
+    if (vector_sweeps_) return sweep_attachments(x, list, begin, end);
     for (int k = begin; k < end; ++k) worst = std::max(worst, sweep_attachment(x, list[k]));
     return worst;
   }
   const EdgeConstraint* const pairs =
       (stage.kind == SweepBands::Kind::edges ? model_.edges : model_.diagonals).data();
+  if (vector_sweeps_) {
+    const int first = stage.block_start[band];
+    return sweep_pair_blocks(x, w, pairs, stage.blocks.data() + first,
+                             stage.block_start[band + 1] - first);
+  }
   for (int k = begin; k < end; ++k) worst = std::max(worst, sweep_pair(x, w, pairs[k]));
   return worst;
 }

@@ -43,7 +43,7 @@ void PlausibleSim::solve_positions() {
   state_.newton_steps = 0;
   state_.residual = 0.0;
   const bool attached = !model_.attachments[0].empty();
-  const bool banded = !model_.bands.stages.empty();
+  const bool banded = banded_sweeps_ && !model_.bands.stages.empty();
   // the step's sweeps are shared among its substeps
   const int iterations = std::max(1, model_.settings.iterations / substep_count());
   // with the substeps under control, up to kExtraSweeps more while a sweep meets a violation past

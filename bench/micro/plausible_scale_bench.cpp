@@ -1,8 +1,9 @@
 // The plausible step of a 256 x 256 curtain (65,536 rings, self-contact on, default knobs: past
 // the Newton steps' size, so 16 substeps of one sweep) on 1 and 2 threads. The sheet first falls
 // for 0.1 s from the layout, untimed, so the timed steps see links taut and rings moving; each
-// iteration then times 10 steps. Counters: ms per step in all and per stage, and the state hash
-// (the same on any thread count).
+// iteration then times 10 steps, with the sweeps' pairs in SIMD blocks (vector:1, the default)
+// or one by one (vector:0). Counters: ms per step in all and per stage, and the state hash (the
+// same on any thread count, either way).
 #include <string>
 
 #include <benchmark/benchmark.h>
@@ -19,6 +20,7 @@ using namespace chainmail;
 void BM_PlausibleLargeCurtain(benchmark::State& bench) {
   const int side = 256;
   const int threads = static_cast<int>(bench.range(0));
+  const bool vector = bench.range(1) != 0;
   const Scene scene =
       load_scene_file(CHAINMAIL_SOURCE_DIR "/bench/scenes/curtain.json",
                       {"weave.rows=" + std::to_string(side), "weave.cols=" + std::to_string(side)});
@@ -26,6 +28,7 @@ void BM_PlausibleLargeCurtain(benchmark::State& bench) {
   const double dt = 0.004;  // the backend's default
   PlausibleSim sim;
   sim.set_threads(threads);
+  sim.set_vector_sweeps(vector);
   sim.reset(scene, weave, PlausibleSettings{});
   for (int s = 0; s < 25; ++s) sim.step(dt);  // settle in: 0.1 s, untimed
   const StageProfile before = sim.profile();
@@ -54,8 +57,8 @@ void BM_PlausibleLargeCurtain(benchmark::State& bench) {
 }  // namespace
 
 BENCHMARK(BM_PlausibleLargeCurtain)
-    ->Arg(1)
-    ->Arg(2)
+    ->ArgNames({"threads", "vector"})
+    ->ArgsProduct({{1, 2}, {1, 0}})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3)
     ->UseRealTime();

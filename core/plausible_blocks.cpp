@@ -1,0 +1,305 @@
+// The blocks of four pairs (core/plausible_blocks.hpp): their making, and their sweep in AVX2
+// lanes where the machine has it (chosen at run time, so a portable build uses it too).
+#include "core/plausible_blocks.hpp"
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdlib>
+
+#include "core/plausible_sweep.hpp"
+
+#if (defined(__x86_64__) || defined(__i386__)) && defined(__GNUC__)
+#include <immintrin.h>
+#define CHAINMAIL_AVX2_SWEEPS 1
+#endif
+
+namespace chainmail {
+namespace {
+
+bool same_bounds(const EdgeConstraint& x, const EdgeConstraint& y) {
+  return x.min_length == y.min_length && x.max_length == y.max_length;
+}
+
+PairBlock::Kind block_kind(const EdgeConstraint* f) {
+  const int a = f[0].a, b = f[0].b;
+  bool run = std::abs(b - a) >= 4;  // the two runs of rings do not overlap
+  bool adjacent = b == a + 1;
+  for (int i = 1; i < 4; ++i) {
+    run = run && f[i].a == a + i && f[i].b == b + i;
+    adjacent = adjacent && f[i].a == a + 2 * i && f[i].b == a + 2 * i + 1;
+  }
+  if (run) return PairBlock::Kind::run;
+  if (adjacent) return PairBlock::Kind::adjacent;
+  return PairBlock::Kind::single;
+}
+
+}  // namespace
+
+bool vector_sweeps_available() {
+#if defined(CHAINMAIL_AVX2_SWEEPS)
+  return __builtin_cpu_supports("avx2");
+#else
+  return false;
+#endif
+}
+
+std::vector<PairBlock> make_pair_blocks(const EdgeConstraint* pairs, int begin, int end,
+                                        const std::vector<double>& inverse_mass) {
+  std::vector<PairBlock> blocks;
+  for (int k = begin; k < end;) {
+    const EdgeConstraint* f = pairs + k;
+    PairBlock block{f->a, f->b, PairBlock::Kind::single, k, true, f->min_length, f->max_length};
+    if (k + 4 <= end) {
+      const PairBlock::Kind kind = block_kind(f);
+      bool fits = kind != PairBlock::Kind::single;
+      for (int i = 0; i < 4 && fits; ++i) {
+        fits = inverse_mass[f[i].a] != 0.0 && inverse_mass[f[i].b] != 0.0;
+        block.shared_bounds = block.shared_bounds && same_bounds(f[i], f[0]);
+      }
+      if (fits) block.kind = kind;
+    }
+    blocks.push_back(block);
+    k += block.kind == PairBlock::Kind::single ? 1 : 4;
+  }
+  return blocks;
+}
+
+#if defined(CHAINMAIL_AVX2_SWEEPS)
+namespace {
+
+// x, y and z of four rings
+struct Lanes {
+  __m256d x, y, z;
+};
+
+// the positions of 4 consecutive rings (12 doubles, x y z x y z ...) as lanes, and back
+__attribute__((target("avx2"), always_inline)) inline Lanes load_rings(const double* p) {
+  const __m256d v0 = _mm256_loadu_pd(p), v1 = _mm256_loadu_pd(p + 4), v2 = _mm256_loadu_pd(p + 8);
+  const __m256d xy = _mm256_permute2f128_pd(v0, v1, 0x30);  // x0 y0 | x2 y2
+  const __m256d zx = _mm256_permute2f128_pd(v0, v2, 0x21);  // z0 x1 | z2 x3
+  const __m256d yz = _mm256_permute2f128_pd(v1, v2, 0x30);  // y1 z1 | y3 z3
+  return {_mm256_shuffle_pd(xy, zx, 0xA), _mm256_shuffle_pd(xy, yz, 0x5),
+          _mm256_shuffle_pd(zx, yz, 0xA)};
+}
+
+__attribute__((target("avx2"), always_inline)) inline void store_rings(double* p, const Lanes& r) {
+  const __m256d xy = _mm256_shuffle_pd(r.x, r.y, 0x0);
+  const __m256d zx = _mm256_shuffle_pd(r.z, r.x, 0xA);
+  const __m256d yz = _mm256_shuffle_pd(r.y, r.z, 0xF);
+  _mm256_storeu_pd(p, _mm256_permute2f128_pd(xy, zx, 0x20));
+  _mm256_storeu_pd(p + 4, _mm256_permute2f128_pd(yz, xy, 0x30));
+  _mm256_storeu_pd(p + 8, _mm256_permute2f128_pd(zx, yz, 0x31));
+}
+
+// solve_edge_constraint in four lanes (no weight is zero: blocks hold no pin). Returns whether
+// any lane moved; worst takes the lanes' violations (max(v, worst) keeps worst on a NaN, as
+// std::max(worst, v) does)
+__attribute__((target("avx2"), always_inline)) inline bool solve_lanes(Lanes& p0, Lanes& p1,
+                                                                       __m256d w0, __m256d w1,
+                                                                       __m256d min_length,
+                                                                       __m256d max_length,
+                                                                       __m256d& worst) {
+  const __m256d sign = _mm256_set1_pd(-0.0), zero = _mm256_setzero_pd();
+  const __m256d dx = _mm256_sub_pd(p1.x, p0.x), dy = _mm256_sub_pd(p1.y, p0.y),
+                dz = _mm256_sub_pd(p1.z, p0.z);
+  // (dx dx + dy dy) + dz dz: squaredNorm's order
+  const __m256d length2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
+                                        _mm256_mul_pd(dz, dz));
+  const __m256d max2 = _mm256_mul_pd(max_length, max_length);
+  const __m256d min2 = _mm256_mul_pd(min_length, min_length);
+  const __m256d within = _mm256_and_pd(_mm256_cmp_pd(length2, max2, _CMP_LE_OQ),
+                                       _mm256_cmp_pd(length2, min2, _CMP_GE_OQ));
+  if (_mm256_movemask_pd(within) == 0xF) return false;  // the usual case
+  // the lanes out of bounds (a NaN too, as in the scalar test), not degenerate
+  __m256d active =
+      _mm256_andnot_pd(within, _mm256_cmp_pd(length2, _mm256_set1_pd(1e-30), _CMP_NLT_UQ));
+  const __m256d length = _mm256_sqrt_pd(length2);
+  const __m256d target =
+      _mm256_blendv_pd(min_length, max_length, _mm256_cmp_pd(length2, max2, _CMP_GT_OQ));
+  const __m256d error = _mm256_sub_pd(length, target);
+  const __m256d scale = _mm256_div_pd(error, _mm256_mul_pd(length, _mm256_add_pd(w0, w1)));
+  const __m256d violation = _mm256_andnot_pd(sign, error);
+  active = _mm256_and_pd(active, _mm256_cmp_pd(violation, zero, _CMP_NEQ_UQ));
+  if (_mm256_movemask_pd(active) == 0) return false;
+  const __m256d s0 = _mm256_mul_pd(w0, scale);
+  const __m256d s1 = _mm256_xor_pd(_mm256_mul_pd(w1, scale), sign);  // -(w1 scale)
+  p0.x = _mm256_blendv_pd(p0.x, _mm256_add_pd(p0.x, _mm256_mul_pd(s0, dx)), active);
+  p0.y = _mm256_blendv_pd(p0.y, _mm256_add_pd(p0.y, _mm256_mul_pd(s0, dy)), active);
+  p0.z = _mm256_blendv_pd(p0.z, _mm256_add_pd(p0.z, _mm256_mul_pd(s0, dz)), active);
+  p1.x = _mm256_blendv_pd(p1.x, _mm256_add_pd(p1.x, _mm256_mul_pd(s1, dx)), active);
+  p1.y = _mm256_blendv_pd(p1.y, _mm256_add_pd(p1.y, _mm256_mul_pd(s1, dy)), active);
+  p1.z = _mm256_blendv_pd(p1.z, _mm256_add_pd(p1.z, _mm256_mul_pd(s1, dz)), active);
+  worst = _mm256_max_pd(_mm256_and_pd(violation, active), worst);
+  return true;
+}
+
+// the block's bounds in lanes holding its pairs `first`, `second`, ... (shared, or the pairs')
+struct LaneBounds {
+  __m256d min_length, max_length;  // m
+};
+__attribute__((target("avx2"), always_inline)) inline LaneBounds lane_bounds(
+    const EdgeConstraint* pairs, const PairBlock& block, int first, int second, int third,
+    int fourth) {
+  if (block.shared_bounds) {
+    return {_mm256_set1_pd(block.min_length), _mm256_set1_pd(block.max_length)};
+  }
+  const EdgeConstraint* f = pairs + block.pair;
+  return {_mm256_setr_pd(f[first].min_length, f[second].min_length, f[third].min_length,
+                         f[fourth].min_length),
+          _mm256_setr_pd(f[first].max_length, f[second].max_length, f[third].max_length,
+                         f[fourth].max_length)};
+}
+
+// pairs (a + i, b + i)
+__attribute__((target("avx2"))) void solve_run(double* x, const double* w,
+                                               const EdgeConstraint* pairs, const PairBlock& block,
+                                               __m256d& worst) {
+  double* const p0 = x + 3 * static_cast<std::ptrdiff_t>(block.a);
+  double* const p1 = x + 3 * static_cast<std::ptrdiff_t>(block.b);
+  Lanes r0 = load_rings(p0), r1 = load_rings(p1);
+  const LaneBounds bounds = lane_bounds(pairs, block, 0, 1, 2, 3);
+  if (!solve_lanes(r0, r1, _mm256_loadu_pd(w + block.a), _mm256_loadu_pd(w + block.b),
+                   bounds.min_length, bounds.max_length, worst)) {
+    return;
+  }
+  store_rings(p0, r0);
+  store_rings(p1, r1);
+}
+
+// pairs (a + 2 i, a + 2 i + 1): rings a .. a + 7, the even ones one side, the odd the other (the
+// lanes hold pairs 0, 2, 1, 3: unpacking keeps 128-bit halves apart, and lanes are independent)
+__attribute__((target("avx2"))) void solve_adjacent(double* x, const double* w,
+                                                    const EdgeConstraint* pairs,
+                                                    const PairBlock& block, __m256d& worst) {
+  double* const p = x + 3 * static_cast<std::ptrdiff_t>(block.a);
+  const Lanes low = load_rings(p), high = load_rings(p + 12);
+  Lanes even{_mm256_unpacklo_pd(low.x, high.x), _mm256_unpacklo_pd(low.y, high.y),
+             _mm256_unpacklo_pd(low.z, high.z)};
+  Lanes odd{_mm256_unpackhi_pd(low.x, high.x), _mm256_unpackhi_pd(low.y, high.y),
+            _mm256_unpackhi_pd(low.z, high.z)};
+  const __m256d w_low = _mm256_loadu_pd(w + block.a), w_high = _mm256_loadu_pd(w + block.a + 4);
+  const LaneBounds bounds = lane_bounds(pairs, block, 0, 2, 1, 3);
+  if (!solve_lanes(even, odd, _mm256_unpacklo_pd(w_low, w_high), _mm256_unpackhi_pd(w_low, w_high),
+                   bounds.min_length, bounds.max_length, worst)) {
+    return;
+  }
+  store_rings(p, {_mm256_unpacklo_pd(even.x, odd.x), _mm256_unpacklo_pd(even.y, odd.y),
+                  _mm256_unpacklo_pd(even.z, odd.z)});
+  store_rings(p + 12, {_mm256_unpackhi_pd(even.x, odd.x), _mm256_unpackhi_pd(even.y, odd.y),
+                       _mm256_unpackhi_pd(even.z, odd.z)});
+}
+
+__attribute__((target("avx2"))) double sweep_blocks_avx2(double* x, const double* w,
+                                                         const EdgeConstraint* pairs,
+                                                         const PairBlock* blocks, int count) {
+  __m256d lanes_worst = _mm256_setzero_pd();  // m
+  double worst = 0.0;                         // m
+  for (int k = 0; k < count; ++k) {
+    const PairBlock& block = blocks[k];
+    switch (block.kind) {
+      case PairBlock::Kind::run:
+        solve_run(x, w, pairs, block, lanes_worst);
+        break;
+      case PairBlock::Kind::adjacent:
+        solve_adjacent(x, w, pairs, block, lanes_worst);
+        break;
+      case PairBlock::Kind::single:
+        worst = std::max(worst, sweep_pair(x, w, pairs[block.pair]));
+        break;
+    }
+  }
+  alignas(32) double lane[4];
+  _mm256_store_pd(lane, lanes_worst);
+  for (double v : lane) worst = std::max(worst, v);
+  return worst;
+}
+
+// four attachments of consecutive rings: solve_attachment_constraint in lanes, the pins' positions
+// loaded one by one (a pin's x y, then z)
+__attribute__((target("avx2"), always_inline)) inline __m256d load_ring(const double* x, int ring) {
+  const double* const p = x + 3 * static_cast<std::ptrdiff_t>(ring);
+  return _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p)), _mm_load_sd(p + 2), 1);
+}
+
+__attribute__((target("avx2"))) void solve_attachment_run(double* x, const PinAttachment* f,
+                                                          __m256d& worst) {
+  double* const p = x + 3 * static_cast<std::ptrdiff_t>(f[0].ring);
+  Lanes rings = load_rings(p);
+  // the four pins, x y z (and a zero) each, transposed into lanes
+  const __m256d pin0 = load_ring(x, f[0].pin), pin1 = load_ring(x, f[1].pin);
+  const __m256d pin2 = load_ring(x, f[2].pin), pin3 = load_ring(x, f[3].pin);
+  const __m256d xz01 = _mm256_unpacklo_pd(pin0, pin1), y01 = _mm256_unpackhi_pd(pin0, pin1);
+  const __m256d xz23 = _mm256_unpacklo_pd(pin2, pin3), y23 = _mm256_unpackhi_pd(pin2, pin3);
+  const __m256d dx = _mm256_sub_pd(rings.x, _mm256_permute2f128_pd(xz01, xz23, 0x20));
+  const __m256d dy = _mm256_sub_pd(rings.y, _mm256_permute2f128_pd(y01, y23, 0x20));
+  const __m256d dz = _mm256_sub_pd(rings.z, _mm256_permute2f128_pd(xz01, xz23, 0x31));
+  const __m256d length2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
+                                        _mm256_mul_pd(dz, dz));
+  const __m256d reach =
+      _mm256_setr_pd(f[0].max_distance, f[1].max_distance, f[2].max_distance, f[3].max_distance);
+  const __m256d within = _mm256_cmp_pd(length2, _mm256_mul_pd(reach, reach), _CMP_LE_OQ);
+  if (_mm256_movemask_pd(within) == 0xF) return;  // the usual case
+  const __m256d length = _mm256_sqrt_pd(length2);
+  const __m256d violation = _mm256_sub_pd(length, reach);
+  // moved where the violation is positive (not on a NaN, as in the scalar sweep)
+  const __m256d active =
+      _mm256_andnot_pd(within, _mm256_cmp_pd(violation, _mm256_setzero_pd(), _CMP_GT_OQ));
+  if (_mm256_movemask_pd(active) == 0) return;
+  const __m256d scale = _mm256_div_pd(_mm256_sub_pd(reach, length), length);
+  rings.x = _mm256_blendv_pd(rings.x, _mm256_add_pd(rings.x, _mm256_mul_pd(scale, dx)), active);
+  rings.y = _mm256_blendv_pd(rings.y, _mm256_add_pd(rings.y, _mm256_mul_pd(scale, dy)), active);
+  rings.z = _mm256_blendv_pd(rings.z, _mm256_add_pd(rings.z, _mm256_mul_pd(scale, dz)), active);
+  store_rings(p, rings);
+  worst = _mm256_max_pd(_mm256_and_pd(violation, active), worst);
+}
+
+__attribute__((target("avx2"))) double sweep_attachments_avx2(double* x, const PinAttachment* list,
+                                                              int begin, int end) {
+  __m256d lanes_worst = _mm256_setzero_pd();  // m
+  double worst = 0.0;                         // m
+  int k = begin;
+  while (k < end) {
+    // a list holds a ring once and is sorted by ring: four items three rings apart are a run
+    if (k + 4 <= end && list[k + 3].ring == list[k].ring + 3) {
+      solve_attachment_run(x, list + k, lanes_worst);
+      k += 4;
+    } else {
+      worst = std::max(worst, sweep_attachment(x, list[k]));
+      ++k;
+    }
+  }
+  alignas(32) double lane[4];
+  _mm256_store_pd(lane, lanes_worst);
+  for (double v : lane) worst = std::max(worst, v);
+  return worst;
+}
+
+}  // namespace
+#endif
+
+double sweep_pair_blocks(double* x, const double* w, const EdgeConstraint* pairs,
+                         const PairBlock* blocks, int count) {
+#if defined(CHAINMAIL_AVX2_SWEEPS)
+  if (vector_sweeps_available()) return sweep_blocks_avx2(x, w, pairs, blocks, count);
+#endif
+  // without AVX2: each block's pairs one by one (they are consecutive in the stage's list)
+  double worst = 0.0;  // m
+  for (int k = 0; k < count; ++k) {
+    const int pairs_in_block = blocks[k].kind == PairBlock::Kind::single ? 1 : 4;
+    for (int i = 0; i < pairs_in_block; ++i) {
+      worst = std::max(worst, sweep_pair(x, w, pairs[blocks[k].pair + i]));
+    }
+  }
+  return worst;
+}
+
+double sweep_attachments(double* x, const PinAttachment* list, int begin, int end) {
+#if defined(CHAINMAIL_AVX2_SWEEPS)
+  if (vector_sweeps_available()) return sweep_attachments_avx2(x, list, begin, end);
+#endif
+  double worst = 0.0;  // m
+  for (int k = begin; k < end; ++k) worst = std::max(worst, sweep_attachment(x, list[k]));
+  return worst;
+}
+
+}  // namespace chainmail

@@ -1,0 +1,36 @@
+// A sweep stage's pairs in blocks of four, solved four at a time in SIMD lanes. A regular weave's
+// colours are runs of pairs a fixed ring offset apart, (r, r + k) for consecutive r, and the
+// horizontal pairs (r, r + 1) for every other r: four such pairs read and write 4 (or 8)
+// consecutive rings, so their positions load as whole vectors instead of one scalar at a time.
+// A block does per lane exactly the arithmetic of solve_edge_constraint (no fused multiply-add,
+// the same order of operations; square root and division are correctly rounded in both), and a
+// colour's pairs share no ring, so the blocks give the scalar sweep's bits.
+#pragma once
+
+#include <vector>
+
+#include "core/plausible.hpp"
+
+namespace chainmail {
+
+// whether this machine runs the blocks' vector code (x86 with AVX2; elsewhere the sweeps stay
+// scalar)
+bool vector_sweeps_available();
+
+// pairs [begin, end) of one stage (no two share a ring) as blocks, in order: four pairs make a
+// block when they form a run or an adjacent set and move no pin (a pin is never written, and
+// another thread may be reading it); the others are singles
+std::vector<PairBlock> make_pair_blocks(const EdgeConstraint* pairs, int begin, int end,
+                                        const std::vector<double>& inverse_mass);
+
+// one sweep over blocks [0, count); the largest violation met, m (as the scalar sweep's). In
+// AVX2 lanes where vector_sweeps_available(), else pair by pair
+double sweep_pair_blocks(double* x, const double* w, const EdgeConstraint* pairs,
+                         const PairBlock* blocks, int count);
+
+// one sweep over attachments [begin, end) of one list (a ring at most once, sorted by ring): four
+// consecutive rings at once in AVX2 lanes where vector_sweeps_available(); the largest violation
+// met, m (as the scalar sweep's)
+double sweep_attachments(double* x, const PinAttachment* list, int begin, int end);
+
+}  // namespace chainmail
