@@ -18,6 +18,20 @@ Eigen::Map<const Eigen::VectorXd> view(const std::vector<double>& values) {
   return {values.data(), static_cast<Eigen::Index>(values.size())};
 }
 
+// rings [0, n) in one range per thread, each but the last a multiple of 4 rings long (the vector
+// passes' groups); pass(range, begin, end)
+template <class Pass>
+void for_ring_ranges(int n, int threads, Pass&& pass) {
+  const int team = loop_threads(threads, n);
+#pragma omp parallel for schedule(static) num_threads(team)
+  for (int t = 0; t < team; ++t) {
+    const int begin = static_cast<int>(static_cast<long long>(n) * t / team) & ~3;
+    const int end =
+        t + 1 == team ? n : static_cast<int>(static_cast<long long>(n) * (t + 1) / team) & ~3;
+    pass(t, begin, end);
+  }
+}
+
 }  // namespace
 
 void PlausibleSim::reset(const Scene& scene, const Weave& weave,
@@ -181,12 +195,15 @@ void PlausibleSim::substep(double h, double damp_dt) {
     refresh_contact_candidates();
     add_repulsion_forces();
   }
-  // integrate: symplectic Euler prediction of the new positions
-  integrate(h);
+  // integrate: symplectic Euler prediction of the new positions (and the rings' moves since the
+  // contact list was built)
+  RingMoves moves;
+  const bool measure = contacts && !spring;
+  integrate(h, measure ? &moves : nullptr);
   // candidate pairs near the predicted positions, for the minimum distance in the sweeps
   if (contacts && !spring) {
     auto scope = profile_.scope("self_contact");
-    refresh_contact_candidates();
+    refresh_contact_candidates(&moves);
   }
   // long-range attachments to the pins, Provot edge constraints, minimum distances between
   // non-neighbours and colliders, swept together until converged (then Newton steps)
@@ -215,7 +232,7 @@ void PlausibleSim::add_repulsion_forces() {
   }
 }
 
-void PlausibleSim::refresh_contact_candidates() {
+void PlausibleSim::refresh_contact_candidates(const RingMoves* measured) {
   // a pair closer than the range now was closer than range + skin when the list was built, as
   // long as no two rings have closed in by more than the skin since: no ring has moved more than
   // half the skin, or all the rings' moves fit in a box whose diagonal is at most the skin (a
@@ -223,24 +240,10 @@ void PlausibleSim::refresh_contact_candidates() {
   const double skin = model_.settings.contact_skin * model_.repulsion_range;
   const int n = static_cast<int>(state_.position.cols());
   if (skin > 0.0 && state_.contact_anchor.cols() == n) {
-    double farthest2 = 0.0;  // m^2
-    constexpr double kInf = std::numeric_limits<double>::infinity();
-    double lo_x = kInf, lo_y = kInf, lo_z = kInf;     // m, the box of the moves
-    double hi_x = -kInf, hi_y = -kInf, hi_z = -kInf;  // m
-    const int team = loop_threads(threads_, n);
-    // clang-format off
-#pragma omp parallel for schedule(static) num_threads(team) \
-    reduction(max : farthest2, hi_x, hi_y, hi_z) reduction(min : lo_x, lo_y, lo_z)
-    // clang-format on
-    for (int i = 0; i < n; ++i) {
-      const Vec3 move = state_.position.col(i) - state_.contact_anchor.col(i);
-      farthest2 = std::max(farthest2, move.squaredNorm());
-      lo_x = std::min(lo_x, move.x()), hi_x = std::max(hi_x, move.x());
-      lo_y = std::min(lo_y, move.y()), hi_y = std::max(hi_y, move.y());
-      lo_z = std::min(lo_z, move.z()), hi_z = std::max(hi_z, move.z());
-    }
-    const double diagonal2 = Vec3(hi_x - lo_x, hi_y - lo_y, hi_z - lo_z).squaredNorm();  // m^2
-    if (farthest2 <= 0.25 * skin * skin || diagonal2 <= skin * skin) return;
+    const RingMoves moves = measured ? *measured : measure_moves();
+    const Vec3 box(moves.hi[0] - moves.lo[0], moves.hi[1] - moves.lo[1],
+                   moves.hi[2] - moves.lo[2]);  // m
+    if (moves.farthest2 <= 0.25 * skin * skin || box.squaredNorm() <= skin * skin) return;
   }
   const double radius = model_.repulsion_range + skin;
   hash_.build(state_.position, radius, 0, threads_);
@@ -269,7 +272,29 @@ void PlausibleSim::refresh_contact_candidates() {
   ++state_.contact_rebuilds;
 }
 
-void PlausibleSim::integrate(double dt) {
+RingMoves PlausibleSim::measure_moves() const {
+  const int n = static_cast<int>(state_.position.cols());
+  const int team = loop_threads(threads_, n);
+  std::vector<RingMoves> part(team);
+#pragma omp parallel for schedule(static) num_threads(team)
+  for (int t = 0; t < team; ++t) {
+    const int begin = static_cast<int>(static_cast<long long>(n) * t / team);
+    const int end = static_cast<int>(static_cast<long long>(n) * (t + 1) / team);
+    for (int i = begin; i < end; ++i) {
+      const Vec3 move = state_.position.col(i) - state_.contact_anchor.col(i);
+      part[t].farthest2 = std::max(part[t].farthest2, move.squaredNorm());
+      for (int c = 0; c < 3; ++c) {
+        part[t].lo[c] = std::min(part[t].lo[c], move[c]);
+        part[t].hi[c] = std::max(part[t].hi[c], move[c]);
+      }
+    }
+  }
+  RingMoves moves;
+  for (const RingMoves& p : part) moves.join(p);
+  return moves;
+}
+
+void PlausibleSim::integrate(double dt, RingMoves* moves) {
   auto scope = profile_.scope("integrate");
   const int n = static_cast<int>(state_.position.cols());
   // a ring that starts the step inside a collider's margin (a scene placed it there, or its torus
@@ -277,6 +302,21 @@ void PlausibleSim::integrate(double dt) {
   if (!model_.colliders.empty()) collide();
   const bool forces = model_.settings.repulsion_spring;  // else gravity alone (substep)
   const Vec3 fall = dt * model_.gravity;                 // m/s
+  if (!forces) {
+    // with a contact list, the moves from its anchor, range by range, joined after (min and max
+    // do not depend on the order)
+    const double* anchor =
+        moves && state_.contact_anchor.cols() == n ? state_.contact_anchor.data() : nullptr;
+    std::vector<RingMoves> part(loop_threads(threads_, n));
+    for_ring_ranges(n, threads_, [&](int range, int begin, int end) {
+      part[range] = predict_rings(ring_arrays(), fall, dt, begin, end, vector_sweeps_, anchor);
+    });
+    if (anchor) {
+      *moves = RingMoves{};
+      for (const RingMoves& p : part) moves->join(p);
+    }
+    return;
+  }
 #pragma omp parallel for schedule(static) num_threads(loop_threads(threads_, n))
   for (int i = 0; i < n; ++i) {
     state_.previous.col(i) = state_.position.col(i);
@@ -291,23 +331,27 @@ void PlausibleSim::integrate(double dt) {
 void PlausibleSim::update_velocities(double dt, double damp_dt) {
   auto scope = profile_.scope("velocity");
   const int n = static_cast<int>(state_.position.cols());
+  for_ring_ranges(n, threads_, [&](int, int begin, int end) {
+    update_ring_velocities(ring_arrays(), dt, begin, end, vector_sweeps_);
+  });
+  // Coulomb friction on the rings a collider pushed this step (only colliders push): the
+  // tangential velocity loses at most mu times the normal velocity change
+  if (model_.colliders.empty()) return damp(damp_dt);
 #pragma omp parallel for schedule(static) num_threads(loop_threads(threads_, n))
   for (int i = 0; i < n; ++i) {
-    if (model_.inverse_mass[i] == 0.0) {
-      state_.velocity.col(i).setZero();
-      continue;
-    }
-    Vec3 v = (state_.position.col(i) - state_.previous.col(i)) / dt;
-    if (state_.contact_push[i] > 0.0) {
-      // Coulomb friction: the tangential velocity loses at most mu times the normal velocity change
-      const Vec3 normal = state_.contact_normal.col(i);
-      const Vec3 tangential = v - v.dot(normal) * normal;
-      const double speed = tangential.norm();
-      const double limit = state_.contact_friction[i] * state_.contact_push[i] / dt;
-      if (speed > 0.0) v -= tangential * std::min(1.0, limit / speed);
-    }
+    if (model_.inverse_mass[i] == 0.0 || state_.contact_push[i] <= 0.0) continue;
+    Vec3 v = state_.velocity.col(i);
+    const Vec3 normal = state_.contact_normal.col(i);
+    const Vec3 tangential = v - v.dot(normal) * normal;
+    const double speed = tangential.norm();
+    const double limit = state_.contact_friction[i] * state_.contact_push[i] / dt;
+    if (speed > 0.0) v -= tangential * std::min(1.0, limit / speed);
     state_.velocity.col(i) = v;
   }
+  damp(damp_dt);
+}
+
+void PlausibleSim::damp(double damp_dt) {
   if (damp_dt <= 0.0) return;
   const double fraction = std::min(1.0, model_.settings.damping * damp_dt);
   if (model_.settings.damp_rigid) {

@@ -13,6 +13,7 @@
 #include "core/orientation.hpp"
 #include "core/pin_attachments.hpp"
 #include "core/pin_paths.hpp"
+#include "core/plausible_rings.hpp"
 #include "core/profile.hpp"
 #include "core/projection.hpp"
 #include "core/scene.hpp"
@@ -219,7 +220,10 @@ class PlausibleSim {
  private:
   void accumulate_forces();
   void add_repulsion_forces();
-  void refresh_contact_candidates();
+  // the contact list, rebuilt where the rings' moves since it was built (measured here, or given)
+  // could have brought a pair it does not hold within range
+  void refresh_contact_candidates(const RingMoves* moves = nullptr);
+  RingMoves measure_moves() const;
   // the substeps of the next step (automatic: 1 where the Newton steps run, else the control's)
   int substep_count() const;
   // automatic substeps past the Newton steps' size: the last sweep's largest violation above the
@@ -231,7 +235,9 @@ class PlausibleSim {
   static constexpr int kExtraSweeps = 8;
   // one predict-solve-update pass of h seconds; damps as for damp_dt seconds (0: not at all)
   void substep(double h, double damp_dt);
-  void integrate(double dt);
+  // the prediction; with `moves` (and a contact list), also the rings' moves from the list's
+  // anchor, measured in the same pass
+  void integrate(double dt, RingMoves* moves = nullptr);
   void solve_positions();
   bool solves_contacts() const;
   // Newton steps on the edges and colliders until the largest violation is below tolerance, m
@@ -258,6 +264,12 @@ class PlausibleSim {
   double collider_margin(int ring, const Vec3& normal) const;
   void propagate_from_pins();
   void update_velocities(double dt, double damp_dt);
+  // damping once per step (it removes min(1, damping damp_dt) of the motion it damps)
+  void damp(double damp_dt);
+  RingArrays ring_arrays() {
+    return {state_.position.data(), state_.velocity.data(), state_.previous.data(),
+            state_.contact_push.data(), model_.inverse_mass.data()};
+  }
   // orientations from the positions (const: they are derived, and computed on demand when no
   // collider needs them every step)
   void orient() const;

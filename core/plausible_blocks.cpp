@@ -8,9 +8,8 @@
 
 #include "core/plausible_sweep.hpp"
 
-#if (defined(__x86_64__) || defined(__i386__)) && defined(__GNUC__)
+#if defined(CHAINMAIL_AVX2_SWEEPS)
 #include <immintrin.h>
-#define CHAINMAIL_AVX2_SWEEPS 1
 #endif
 
 namespace chainmail {

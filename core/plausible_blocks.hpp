@@ -11,6 +11,11 @@
 
 #include "core/plausible.hpp"
 
+// x86 with GCC or Clang: the AVX2 code is compiled in, and runs where the machine has AVX2
+#if (defined(__x86_64__) || defined(__i386__)) && defined(__GNUC__)
+#define CHAINMAIL_AVX2_SWEEPS 1
+#endif
+
 namespace chainmail {
 
 // whether this machine runs the blocks' vector code (x86 with AVX2; elsewhere the sweeps stay
