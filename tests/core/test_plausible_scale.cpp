@@ -212,6 +212,31 @@ TEST(PlausibleScale, BandedSweepsGiveTheColouredSweepsBits) {
   EXPECT_EQ(run_hash(scene, 3, 40, {}, {.banded = false, .vector = true}), reference);
 }
 
+TEST(PlausibleScale, VectorLanesGiveTheScalarBitsOnEveryWeave) {
+  // the SIMD blocks and ring passes against one by one: a long chain (its links alternate in
+  // adjacent sets), a grid, and a 4-in-1 sheet falling onto a ball (colliders: their push, the
+  // friction after the velocity pass), each past the Newton steps' size and with a ring count
+  // that leaves a tail of fewer than four rings
+  const Scene chain = hanging("chain", 1, 2047);
+  const Scene grid = scene_from_json({{"name", "grid"},
+                                      {"weave",
+                                       {{"type", "grid"},
+                                        {"rows", 41},
+                                        {"cols", 41},
+                                        {"spacing", 0.006},
+                                        {"plane", "xy"},
+                                        {"center", {0, 0.3, 0}}}},
+                                      {"pins", json::array({{{"edge", "top"}}})},
+                                      {"features", {{"self_contact", true}}},
+                                      {"duration", 1.0}},
+                                     "test");
+  const Scene ball = hanging("4in1", 47, 49, true);
+  for (const Scene* scene : {&chain, &grid, &ball}) {
+    const std::uint64_t scalar = run_hash(*scene, 2, 40, {}, {.banded = true, .vector = false});
+    EXPECT_EQ(run_hash(*scene, 2, 40), scalar);
+  }
+}
+
 TEST(PlausibleScale, SubstepControlKeepsEveryLinkWithinTheInnerDiameter) {
   // one sweep a substep leaves a stretch that grows with g (dt / substeps)^2 and with the rows a
   // sheet hangs by: a 48 x 48 curtain under 100 m/s^2 on a fixed 16 substeps pulls its longest
