@@ -37,6 +37,8 @@ void for_ring_ranges(int n, int threads, Pass&& pass) {
 void PlausibleSim::reset(const Scene& scene, const Weave& weave,
                          const PlausibleSettings& settings) {
   weave_ = weave;
+  band_split_.clear();  // the threads' split of the bands starts even
+  band_busy_.clear();
   const int n = weave.size();
   const RingGeometry& ring = scene.ring;
 

@@ -255,6 +255,10 @@ class PlausibleSim {
   // the lists and colours are reordered by band within each colour (no result changes), m
   void build_sweep_bands();
   double solve_bands();
+  // the threads' runs of bands, (members + 1) first band of each, moved a band at a time toward
+  // the thread that worked less in the last sweep (the top of a hanging sheet has more to
+  // correct); scheduling only: any split gives the same bits
+  void balance_band_split(const std::vector<double>& busy);
   double solve_stage_band(const SweepBands::Stage& stage, int band);
   // the diagonal records and the neighbours' closest approach (core/plausible_weave.cpp), m
   double build_compression_limits();
@@ -283,6 +287,8 @@ class PlausibleSim {
   Projection projection_;  // the Newton steps' factorisation, kept between steps
   StageProfile profile_;
   int threads_ = 1;
+  std::vector<int> band_split_;    // solve_bands' runs of bands, (members + 1)
+  std::vector<double> band_busy_;  // s, each run's time solving, smoothed over sweeps
   bool vector_sweeps_ = true;
   bool banded_sweeps_ = true;
 };

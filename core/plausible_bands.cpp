@@ -9,6 +9,7 @@
 // meets in the coloured sweep: the result is the same bits, on any thread count.
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstdlib>
 
 #include "core/constraints.hpp"
@@ -137,16 +138,28 @@ double PlausibleSim::solve_bands() {
   const int stages = static_cast<int>(bands.stages.size());
   std::vector<BandProgress> progress(count);
   const int team = parallel_loops_available() ? std::clamp(threads_, 1, count / 2) : 1;
+  std::vector<double> busy(team, 0.0);  // s, each thread's time solving (not waiting)
+  int members = 1;
   double worst = 0.0;  // m
 #pragma omp parallel num_threads(team) reduction(max : worst)
   {
-    // this thread's run of bands (from the team it got, which may be smaller than asked)
-    int members = 1, me = 0;
+    // this thread's run of bands (from the team it got, which may be smaller than asked; a new
+    // team size starts from an even split)
+    int me = 0;
 #if defined(CHAINMAIL_HAS_OPENMP)
+#pragma omp single
     members = omp_get_num_threads();
     me = omp_get_thread_num();
 #endif
-    const int first = count * me / members, last = count * (me + 1) / members;  // [first, last)
+#pragma omp single
+    if (static_cast<int>(band_split_.size()) != members + 1 || band_split_.back() != count) {
+      band_split_.resize(members + 1);
+      for (int t = 0; t <= members; ++t) band_split_[t] = count * t / members;
+    }
+    const int first = band_split_[me], last = band_split_[me + 1];  // [first, last)
+    using Clock = std::chrono::steady_clock;
+    const Clock::time_point start = Clock::now();
+    Clock::duration waiting{};
     // the edge bands first, where the neighbouring runs wait, then the interior
     std::vector<int> order = {last - 1};
     if (first < last - 1) order.push_back(first);
@@ -155,15 +168,47 @@ double PlausibleSim::solve_bands() {
       for (int k : order) {
         // a neighbour's pairs of an earlier stage move this band's rings (the band below) or
         // rings this band's pairs move (the band above): it must have finished them
-        if (k == first && k > 0) wait_for(progress[k - 1], s);
-        if (k == last - 1 && k + 1 < count) wait_for(progress[k + 1], s);
+        const bool below = k == first && k > 0, above = k == last - 1 && k + 1 < count;
+        if (below || above) {
+          const Clock::time_point wait_start = Clock::now();
+          if (below) wait_for(progress[k - 1], s);
+          if (above) wait_for(progress[k + 1], s);
+          waiting += Clock::now() - wait_start;
+        }
         worst = std::max(worst, solve_stage_band(bands.stages[s], k));
         // only the run's edge bands are waited for
         if (k == first || k == last - 1) report(progress[k], s + 1);
       }
     }
+    busy[me] = std::chrono::duration<double>(Clock::now() - start - waiting).count();
   }
+  busy.resize(members);
+  balance_band_split(busy);
   return worst;
+}
+
+void PlausibleSim::balance_band_split(const std::vector<double>& busy) {
+  // each boundary moves a band toward the thread on its side that worked less, where the
+  // difference exceeds the time of a band (so the split settles instead of swinging); each run
+  // keeps two bands or more, its edges to be waited for and an interior to work on meanwhile
+  const int members = static_cast<int>(busy.size());
+  // the busy times smoothed over sweeps (one sweep's vary by a quarter); a move hands a band's
+  // time from one thread to the other
+  if (static_cast<int>(band_busy_.size()) != members) band_busy_.assign(busy.begin(), busy.end());
+  for (int t = 0; t < members; ++t) band_busy_[t] = 0.875 * band_busy_[t] + 0.125 * busy[t];
+  for (int t = 1; t < members; ++t) {
+    const double low = band_busy_[t - 1], high = band_busy_[t];  // s
+    const int below = band_split_[t] - band_split_[t - 1],
+              above = band_split_[t + 1] - band_split_[t];
+    const double band = (low + high) / (below + above);  // s, a band's mean time
+    int move = 0;
+    if (low - high > band && below > 2) move = -1;
+    if (high - low > band && above > 2) move = 1;
+    if (move == 0) continue;
+    band_split_[t] += move;
+    band_busy_[t - 1] += move * band;
+    band_busy_[t] -= move * band;
+  }
 }
 
 double PlausibleSim::solve_stage_band(const SweepBands::Stage& stage, int band) {
