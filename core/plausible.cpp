@@ -284,11 +284,7 @@ RingMoves PlausibleSim::measure_moves() const {
     const int end = static_cast<int>(static_cast<long long>(n) * (t + 1) / team);
     for (int i = begin; i < end; ++i) {
       const Vec3 move = state_.position.col(i) - state_.contact_anchor.col(i);
-      part[t].farthest2 = std::max(part[t].farthest2, move.squaredNorm());
-      for (int c = 0; c < 3; ++c) {
-        part[t].lo[c] = std::min(part[t].lo[c], move[c]);
-        part[t].hi[c] = std::max(part[t].hi[c], move[c]);
-      }
+      part[t].add(move.x(), move.y(), move.z());
     }
   }
   RingMoves moves;

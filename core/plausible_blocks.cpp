@@ -7,10 +7,7 @@
 #include <cstdlib>
 
 #include "core/plausible_sweep.hpp"
-
-#if defined(CHAINMAIL_AVX2_SWEEPS)
-#include <immintrin.h>
-#endif
+#include "core/simd_rings.hpp"
 
 namespace chainmail {
 namespace {
@@ -65,30 +62,6 @@ std::vector<PairBlock> make_pair_blocks(const EdgeConstraint* pairs, int begin, 
 
 #if defined(CHAINMAIL_AVX2_SWEEPS)
 namespace {
-
-// x, y and z of four rings
-struct Lanes {
-  __m256d x, y, z;
-};
-
-// the positions of 4 consecutive rings (12 doubles, x y z x y z ...) as lanes, and back
-__attribute__((target("avx2"), always_inline)) inline Lanes load_rings(const double* p) {
-  const __m256d v0 = _mm256_loadu_pd(p), v1 = _mm256_loadu_pd(p + 4), v2 = _mm256_loadu_pd(p + 8);
-  const __m256d xy = _mm256_permute2f128_pd(v0, v1, 0x30);  // x0 y0 | x2 y2
-  const __m256d zx = _mm256_permute2f128_pd(v0, v2, 0x21);  // z0 x1 | z2 x3
-  const __m256d yz = _mm256_permute2f128_pd(v1, v2, 0x30);  // y1 z1 | y3 z3
-  return {_mm256_shuffle_pd(xy, zx, 0xA), _mm256_shuffle_pd(xy, yz, 0x5),
-          _mm256_shuffle_pd(zx, yz, 0xA)};
-}
-
-__attribute__((target("avx2"), always_inline)) inline void store_rings(double* p, const Lanes& r) {
-  const __m256d xy = _mm256_shuffle_pd(r.x, r.y, 0x0);
-  const __m256d zx = _mm256_shuffle_pd(r.z, r.x, 0xA);
-  const __m256d yz = _mm256_shuffle_pd(r.y, r.z, 0xF);
-  _mm256_storeu_pd(p, _mm256_permute2f128_pd(xy, zx, 0x20));
-  _mm256_storeu_pd(p + 4, _mm256_permute2f128_pd(yz, xy, 0x30));
-  _mm256_storeu_pd(p + 8, _mm256_permute2f128_pd(zx, yz, 0x31));
-}
 
 // solve_edge_constraint in four lanes (no weight is zero: blocks hold no pin). Returns whether
 // any lane moved; worst takes the lanes' violations (max(v, worst) keeps worst on a NaN, as

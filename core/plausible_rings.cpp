@@ -6,12 +6,18 @@
 #include <cstddef>
 
 #include "core/plausible_blocks.hpp"
-
-#if defined(CHAINMAIL_AVX2_SWEEPS)
-#include <immintrin.h>
-#endif
+#include "core/simd_rings.hpp"
 
 namespace chainmail {
+
+void RingMoves::add(double x, double y, double z) {
+  farthest2 = std::max(farthest2, (x * x + y * y) + z * z);  // squaredNorm's order
+  const double move[3] = {x, y, z};                          // m
+  for (int c = 0; c < 3; ++c) {
+    lo[c] = std::min(lo[c], move[c]);
+    hi[c] = std::max(hi[c], move[c]);
+  }
+}
 
 void RingMoves::join(const RingMoves& other) {
   farthest2 = std::max(farthest2, other.farthest2);
@@ -35,14 +41,8 @@ void predict_scalar(const RingArrays& r, const Vec3& fall, double h, int begin, 
       }
     }
     if (!anchor) continue;
-    double move[3];  // m
-    for (int c = 0; c < 3; ++c) move[c] = r.position[3 * i + c] - anchor[3 * i + c];
-    moves.farthest2 = std::max(moves.farthest2, (move[0] * move[0] + move[1] * move[1]) +
-                                                    move[2] * move[2]);  // squaredNorm's order
-    for (int c = 0; c < 3; ++c) {
-      moves.lo[c] = std::min(moves.lo[c], move[c]);
-      moves.hi[c] = std::max(moves.hi[c], move[c]);
-    }
+    moves.add(r.position[3 * i] - anchor[3 * i], r.position[3 * i + 1] - anchor[3 * i + 1],
+              r.position[3 * i + 2] - anchor[3 * i + 2]);
   }
 }
 
@@ -105,13 +105,9 @@ __attribute__((target("avx2"))) void predict_avx2(const RingArrays& r, const Vec
       hi[k] = _mm256_max_pd(move[k], hi[k]);
     }
     // x y z of the four rings' moves in lanes, for their lengths
-    const __m256d xy = _mm256_permute2f128_pd(move[0], move[1], 0x30);
-    const __m256d zx = _mm256_permute2f128_pd(move[0], move[2], 0x21);
-    const __m256d yz = _mm256_permute2f128_pd(move[1], move[2], 0x30);
-    const __m256d mx = _mm256_shuffle_pd(xy, zx, 0xA), my = _mm256_shuffle_pd(xy, yz, 0x5),
-                  mz = _mm256_shuffle_pd(zx, yz, 0xA);
+    const Lanes m = to_lanes(move[0], move[1], move[2]);
     const __m256d length2 = _mm256_add_pd(
-        _mm256_add_pd(_mm256_mul_pd(mx, mx), _mm256_mul_pd(my, my)), _mm256_mul_pd(mz, mz));
+        _mm256_add_pd(_mm256_mul_pd(m.x, m.x), _mm256_mul_pd(m.y, m.y)), _mm256_mul_pd(m.z, m.z));
     farthest2 = _mm256_max_pd(length2, farthest2);
   }
   if (anchor) {

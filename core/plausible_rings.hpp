@@ -25,10 +25,11 @@ struct RingArrays {
 // starts from)
 struct RingMoves {
   static constexpr double kInf = std::numeric_limits<double>::infinity();
-  double farthest2 = 0.0;                // m^2
-  double lo[3] = {kInf, kInf, kInf};     // m
-  double hi[3] = {-kInf, -kInf, -kInf};  // m
-  void join(const RingMoves& other);     // both sets of rings
+  double farthest2 = 0.0;                  // m^2
+  double lo[3] = {kInf, kInf, kInf};       // m
+  double hi[3] = {-kInf, -kInf, -kInf};    // m
+  void add(double x, double y, double z);  // one more ring's move, m
+  void join(const RingMoves& other);       // both sets of rings
 };
 
 // rings [begin, end) under gravity alone: previous = position, contact_push = 0, and for a free
