@@ -200,10 +200,10 @@ void PlausibleSim::substep(double h, double damp_dt) {
   // integrate: symplectic Euler prediction of the new positions (and the rings' moves since the
   // contact list was built)
   RingMoves moves;
-  const bool measure = contacts && !spring;
-  integrate(h, measure ? &moves : nullptr);
+  const bool listed_after = contacts && !spring;  // the contact list follows the prediction
+  integrate(h, listed_after ? &moves : nullptr);
   // candidate pairs near the predicted positions, for the minimum distance in the sweeps
-  if (contacts && !spring) {
+  if (listed_after) {
     auto scope = profile_.scope("self_contact");
     refresh_contact_candidates(&moves);
   }
@@ -276,17 +276,13 @@ void PlausibleSim::refresh_contact_candidates(const RingMoves* measured) {
 
 RingMoves PlausibleSim::measure_moves() const {
   const int n = static_cast<int>(state_.position.cols());
-  const int team = loop_threads(threads_, n);
-  std::vector<RingMoves> part(team);
-#pragma omp parallel for schedule(static) num_threads(team)
-  for (int t = 0; t < team; ++t) {
-    const int begin = static_cast<int>(static_cast<long long>(n) * t / team);
-    const int end = static_cast<int>(static_cast<long long>(n) * (t + 1) / team);
+  std::vector<RingMoves> part(loop_threads(threads_, n));
+  for_ring_ranges(n, threads_, [&](int range, int begin, int end) {
     for (int i = begin; i < end; ++i) {
       const Vec3 move = state_.position.col(i) - state_.contact_anchor.col(i);
-      part[t].add(move.x(), move.y(), move.z());
+      part[range].add(move.x(), move.y(), move.z());
     }
-  }
+  });
   RingMoves moves;
   for (const RingMoves& p : part) moves.join(p);
   return moves;

@@ -199,8 +199,8 @@ class PlausibleSim {
   // result); 1 by default
   void set_threads(int threads) { threads_ = threads < 1 ? 1 : threads; }
   int threads() const { return threads_; }
-  // the banded sweeps' pairs four at a time in SIMD lanes where the machine has them (on by
-  // default; the same bits either way: off serves to compare)
+  // the banded sweeps' pairs and the per-ring passes four at a time in SIMD lanes where the
+  // machine has them (on by default; the same bits either way: off serves to compare)
   void set_vector_sweeps(bool on) { vector_sweeps_ = on; }
   bool vector_sweeps() const { return vector_sweeps_; }
   // past the Newton steps' size the sweeps go band by band (core/plausible_bands.cpp), or colour by
