@@ -89,7 +89,23 @@ class SpatialHash {
   // calls visit(slot) for the sorted slots of cells (x, y, z_lo..z_hi), clipped to the grid
   template <class Visit>
   void for_each_in_run(std::int64_t x, std::int64_t y, std::int64_t z_lo, std::int64_t z_hi,
-                       Visit&& visit) const;
+                       Visit&& visit) const {
+    int first = 0, last = 0;
+    if (!run_slots(x, y, z_lo, z_hi, first, last)) return;
+    for (int slot = first; slot < last; ++slot) visit(slot);
+  }
+  // the sorted slots [first, last) of cells (x, y, z_lo..z_hi), clipped to the grid; false when
+  // the run is outside it
+  bool run_slots(std::int64_t x, std::int64_t y, std::int64_t z_lo, std::int64_t z_hi, int& first,
+                 int& last) const {
+    if (x < 0 || x >= dims_[0] || y < 0 || y >= dims_[1]) return false;
+    z_lo = std::max<std::int64_t>(z_lo, 0);
+    z_hi = std::min<std::int64_t>(z_hi, dims_[2] - 1);
+    if (z_lo > z_hi) return false;
+    first = bucket_start_[dense_index(x, y, z_lo)];
+    last = bucket_start_[dense_index(x, y, z_hi) + 1];
+    return true;
+  }
 
   double inv_cell_ = 1.0;
   bool dense_ = false;
@@ -108,18 +124,6 @@ class SpatialHash {
     std::vector<int> fill;                          // (buckets) next free slot
   } scratch_;                                       // build()'s working memory, reused
 };
-
-template <class Visit>
-void SpatialHash::for_each_in_run(std::int64_t x, std::int64_t y, std::int64_t z_lo,
-                                  std::int64_t z_hi, Visit&& visit) const {
-  if (x < 0 || x >= dims_[0] || y < 0 || y >= dims_[1]) return;
-  z_lo = std::max<std::int64_t>(z_lo, 0);
-  z_hi = std::min<std::int64_t>(z_hi, dims_[2] - 1);
-  if (z_lo > z_hi) return;
-  const int first = bucket_start_[dense_index(x, y, z_lo)];
-  const int last = bucket_start_[dense_index(x, y, z_hi) + 1];
-  for (int slot = first; slot < last; ++slot) visit(slot);
-}
 
 template <class Visit>
 void SpatialHash::for_each_near(const Positions& points, int i, double radius,
@@ -164,24 +168,50 @@ void SpatialHash::for_each_pair_in(const Positions& points, double radius, int b
   // lexicographically after its own, so each pair is met exactly once
   const double r2 = radius * radius;
   if (dense_) {
-    // walk the points in cell order; the half shell is 5 runs along z: the rest of the own cell
-    // and the next z cell, then the rows (0, +1) and (+1, -1..+1) of 3 cells each
+    // walk the points in cell order; the half shell is the rest of the own cell and the next z
+    // cell, then the runs of 3 cells along z in the rows (0, +1) and (+1, -1..+1). The runs
+    // follow from the cell alone, so they are found once per cell (a cell holds a few points),
+    // and runs that continue each other in the sorted order are read as one (a sheet one cell
+    // thick puts the three rows of x + 1 side by side): the same slots in the same order
+    std::int64_t cached = -1;
+    int own_end = 0, runs = 0;
+    int run_first[4], run_last[4];
     for (int s = begin; s < end; ++s) {
-      const int i = sorted_[s];
-      const Vec3 p = sorted_position_.col(s);
       const auto cell = static_cast<std::int64_t>(sorted_key_[s]);
-      const std::int64_t z = cell % dims_[2], y = (cell / dims_[2]) % dims_[1],
-                         x = cell / (dims_[2] * dims_[1]);
-      auto near = [&](int slot) {
-        if ((sorted_position_.col(slot) - p).squaredNorm() < r2) {
-          const int j = sorted_[slot];
-          visit(std::min(i, j), std::max(i, j));
+      if (cell != cached) {
+        cached = cell;
+        const std::int64_t z = cell % dims_[2], y = (cell / dims_[2]) % dims_[1],
+                           x = cell / (dims_[2] * dims_[1]);
+        own_end = bucket_start_[cell + (z + 1 < dims_[2] ? 2 : 1)];
+        runs = 0;
+        auto add_run = [&](std::int64_t rx, std::int64_t ry) {
+          int first = 0, last = 0;
+          if (!run_slots(rx, ry, z - 1, z + 1, first, last)) return;
+          if (runs > 0 && run_last[runs - 1] == first) {
+            run_last[runs - 1] = last;
+          } else {
+            run_first[runs] = first;
+            run_last[runs++] = last;
+          }
+        };
+        add_run(x, y + 1);
+        for (std::int64_t dy = -1; dy <= 1; ++dy) add_run(x + 1, y + dy);
+      }
+      const int i = sorted_[s];
+      const double px = sorted_position_(0, s), py = sorted_position_(1, s),
+                   pz = sorted_position_(2, s);
+      auto near = [&](int first, int last) {
+        for (int slot = first; slot < last; ++slot) {
+          const double dx = sorted_position_(0, slot) - px, dy = sorted_position_(1, slot) - py,
+                       dz = sorted_position_(2, slot) - pz;
+          if (dx * dx + dy * dy + dz * dz < r2) {
+            const int j = sorted_[slot];
+            visit(std::min(i, j), std::max(i, j));
+          }
         }
       };
-      const int own_end = bucket_start_[cell + (z + 1 < dims_[2] ? 2 : 1)];
-      for (int slot = s + 1; slot < own_end; ++slot) near(slot);
-      for_each_in_run(x, y + 1, z - 1, z + 1, near);
-      for (std::int64_t dy = -1; dy <= 1; ++dy) for_each_in_run(x + 1, y + dy, z - 1, z + 1, near);
+      near(s + 1, own_end);
+      for (int r = 0; r < runs; ++r) near(run_first[r], run_last[r]);
     }
     return;
   }
