@@ -253,21 +253,24 @@ void PlausibleSim::refresh_contact_candidates(const RingMoves* measured) {
   // for any thread count
   const int walk = hash_.pair_walk_size(state_.position);
   const int parts = loop_threads(threads_, walk, 4096);
-  std::vector<std::vector<RingPair>> found(parts);
+  if (static_cast<int>(contact_found_.size()) < parts) contact_found_.resize(parts);
 #pragma omp parallel for schedule(static) num_threads(parts)
   for (int part = 0; part < parts; ++part) {
+    std::vector<RingPair>& found = contact_found_[part].pairs;
+    found.clear();
     const int begin = static_cast<int>(static_cast<long long>(walk) * part / parts);
     const int end = static_cast<int>(static_cast<long long>(walk) * (part + 1) / parts);
     hash_.for_each_pair_in(state_.position, radius, begin, end, [&](int i, int j) {
       const auto& nb = weave_.neighbours[i];
       if (nb[0] == j || nb[1] == j || nb[2] == j || nb[3] == j) return;  // linked: constraints
       if (is_diagonal(i, j)) return;  // sharing two neighbours: a minimum distance of its own
-      found[part].push_back({i, j});
+      found.push_back({i, j});
     });
   }
   state_.contact_candidates.clear();
-  for (const auto& part : found) {
-    state_.contact_candidates.insert(state_.contact_candidates.end(), part.begin(), part.end());
+  for (int part = 0; part < parts; ++part) {
+    const std::vector<RingPair>& found = contact_found_[part].pairs;
+    state_.contact_candidates.insert(state_.contact_candidates.end(), found.begin(), found.end());
   }
   state_.contact_colours = colour_pairs(state_.contact_candidates, n);
   state_.contact_anchor = state_.position;

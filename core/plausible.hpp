@@ -4,6 +4,8 @@
 // constrained positions, and ring orientations are derived from the neighbour vectors.
 #pragma once
 
+#include <array>
+#include <cstdlib>
 #include <vector>
 
 #include "core/colouring.hpp"
@@ -262,7 +264,14 @@ class PlausibleSim {
   double solve_stage_band(const SweepBands::Stage& stage, int band);
   // the diagonal records and the neighbours' closest approach (core/plausible_weave.cpp), m
   double build_compression_limits();
-  bool is_diagonal(int a, int b) const;
+  // rings that share two neighbours, (i +- 1, j +- 1): a minimum distance of their own (inline: the
+  // contact list's pair walk asks it of every pair in range)
+  bool is_diagonal(int a, int b) const {
+    if (model_.diagonals.empty()) return false;
+    const std::array<int, 2>& first = weave_.grid[a];
+    const std::array<int, 2>& second = weave_.grid[b];
+    return std::abs(first[0] - second[0]) == 1 && std::abs(first[1] - second[1]) == 1;
+  }
   double collide();
   // m, how far ring's centre must stay from a collider with outward normal n
   double collider_margin(int ring, const Vec3& normal) const;
@@ -284,6 +293,12 @@ class PlausibleSim {
   mutable PlausibleState state_;
   mutable bool orientation_stale_ = false;
   SpatialHash hash_;
+  // the contact list's pair walk, one list per part (each on cache lines of its own: the parts
+  // push at once), kept from rebuild to rebuild with their memory
+  struct alignas(64) FoundPairs {
+    std::vector<RingPair> pairs;
+  };
+  std::vector<FoundPairs> contact_found_;
   Projection projection_;  // the Newton steps' factorisation, kept between steps
   StageProfile profile_;
   int threads_ = 1;

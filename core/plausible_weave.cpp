@@ -36,11 +36,4 @@ double PlausibleSim::build_compression_limits() {
   return std::max(paper, limits.link);
 }
 
-bool PlausibleSim::is_diagonal(int a, int b) const {
-  if (model_.diagonals.empty()) return false;
-  const auto& first = weave_.grid[a];
-  const auto& second = weave_.grid[b];
-  return std::abs(first[0] - second[0]) == 1 && std::abs(first[1] - second[1]) == 1;
-}
-
 }  // namespace chainmail

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
 
 namespace chainmail {
 
@@ -15,42 +16,49 @@ void SpatialHash::build(const Positions& points, double cell_size, int table_siz
   // (the scratch arrays keep their memory from build to build: a sheet rebuilds its candidate
   // list every few substeps, and fresh pages cost more than the sort)
   std::vector<int>& finite = scratch_.finite;
-  finite.clear();
-  finite.reserve(n);
   std::vector<std::array<std::int64_t, 3>>& cell = scratch_.cell;
   cell.resize(n);
-  // the cells per point on the threads (independent), the box and the finite list after
+  // each part of the points on its own thread: their cells, and the part's box and finite count
+  // (kept in locals: parts written in the loop would share cache lines between threads); the
+  // boxes joined and the finite points listed in index order after
   constexpr std::int64_t kNone = -(std::int64_t{1} << 62);  // not in the grid
   const int team = loop_threads(threads, n, 4096);
-#pragma omp parallel for schedule(static) num_threads(team)
-  for (int i = 0; i < n; ++i) {
-    const Vec3 p = points.col(i);
-    cell[i] = in_grid(p)
-                  ? std::array<std::int64_t, 3>{cell_of(p.x()), cell_of(p.y()), cell_of(p.z())}
-                  : std::array<std::int64_t, 3>{kNone, 0, 0};
-  }
-  // the box, and the finite points in index order: each part of the points on its own thread,
-  // the parts' boxes and lists joined in order after
-  std::int64_t lo[3] = {0, 0, 0}, hi[3] = {-1, -1, -1};
-  struct Part {
+  struct alignas(64) Part {
     std::int64_t lo[3], hi[3];
     int begin = 0, count = 0;  // points, and finite points among them
   };
   std::vector<Part> parts(team);
 #pragma omp parallel for schedule(static) num_threads(team)
   for (int t = 0; t < team; ++t) {
-    Part& part = parts[t];
-    part.begin = static_cast<int>(static_cast<long long>(n) * t / team);
+    const int begin = static_cast<int>(static_cast<long long>(n) * t / team);
     const int end = static_cast<int>(static_cast<long long>(n) * (t + 1) / team);
-    for (int i = part.begin; i < end; ++i) {
-      if (cell[i][0] == kNone) continue;
-      for (int a = 0; a < 3; ++a) {
-        part.lo[a] = part.count == 0 ? cell[i][a] : std::min(part.lo[a], cell[i][a]);
-        part.hi[a] = part.count == 0 ? cell[i][a] : std::max(part.hi[a], cell[i][a]);
+    std::int64_t lo[3] = {kNone, kNone, kNone}, hi[3] = {kNone, kNone, kNone};
+    int count = 0;
+    for (int i = begin; i < end; ++i) {
+      const Vec3 p = points.col(i);
+      if (!in_grid(p)) {
+        cell[i] = {kNone, 0, 0};
+        continue;
       }
-      ++part.count;
+      const std::array<std::int64_t, 3> c = {cell_of(p.x()), cell_of(p.y()), cell_of(p.z())};
+      cell[i] = c;
+      if (count++ == 0) {
+        for (int a = 0; a < 3; ++a) lo[a] = hi[a] = c[a];
+      }
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], c[a]);
+        hi[a] = std::max(hi[a], c[a]);
+      }
+    }
+    Part& part = parts[t];
+    part.begin = begin;
+    part.count = count;
+    for (int a = 0; a < 3; ++a) {
+      part.lo[a] = lo[a];
+      part.hi[a] = hi[a];
     }
   }
+  std::int64_t lo[3] = {0, 0, 0}, hi[3] = {-1, -1, -1};
   int finite_count = 0;
   for (Part& part : parts) {
     if (part.count == 0) continue;
@@ -63,12 +71,16 @@ void SpatialHash::build(const Positions& points, double cell_size, int table_siz
     part.count = first;  // now the part's first place in the finite list
   }
   finite.resize(finite_count);
+  if (finite_count == n) {
+    for (int i = 0; i < n; ++i) finite[i] = i;
+  } else {
 #pragma omp parallel for schedule(static) num_threads(team)
-  for (int t = 0; t < team; ++t) {
-    const int end = t + 1 < team ? parts[t + 1].begin : n;
-    int at = parts[t].count;
-    for (int i = parts[t].begin; i < end; ++i) {
-      if (cell[i][0] != kNone) finite[at++] = i;
+    for (int t = 0; t < team; ++t) {
+      const int end = t + 1 < team ? parts[t + 1].begin : n;
+      int at = parts[t].count;
+      for (int i = parts[t].begin; i < end; ++i) {
+        if (cell[i][0] != kNone) finite[at++] = i;
+      }
     }
   }
 
@@ -109,50 +121,46 @@ void SpatialHash::build(const Positions& points, double cell_size, int table_siz
     }
   }
 
-  // counting sort by bucket: count, prefix sum, scatter (stable: ascending index within a bucket).
-  // Each thread takes a range of buckets and the points that fall in it, so every bucket's points
-  // are placed by one thread in index order: the same layout for any thread count
+  // counting sort by bucket, stable (ascending index within a bucket) for any thread count: each
+  // part of the finite points, in index order, counts its points per bucket into a histogram of
+  // its own; the histograms are summed bucket by bucket, part after part, into each part's first
+  // slot in every bucket; each part then places its points in index order. A histogram spans the
+  // table, so the parts run on more than one thread only while the table is small beside the
+  // points (a sheet's grid is)
   bucket_start_.resize(static_cast<size_t>(table) + 1);
-  std::vector<int>& fill = scratch_.fill;
-  fill.resize(static_cast<size_t>(table));
   sorted_.resize(count);
   sorted_key_.resize(count);
   sorted_position_.resize(3, count);
-  const int sorters = loop_threads(threads, std::min<std::int64_t>(count, table), 4096);
-  std::vector<int> range_total(sorters + 1, 0);  // (sorters + 1) points before each range
-#pragma omp parallel num_threads(sorters)
-  {
-    int t = 0, members = 1;
-#if defined(CHAINMAIL_HAS_OPENMP)
-    t = omp_get_thread_num();
-    members = omp_get_num_threads();
-#endif
-    const std::int64_t first = table * t / members, last = table * (t + 1) / members;
-    // count the range's points into fill, then sum them up in place
-    std::fill(fill.begin() + first, fill.begin() + last, 0);
-    for (int i : finite) {
-      const int b = bucket_of[i];
-      if (b >= first && b < last) ++fill[b];
-    }
-    int total = 0;
-    for (std::int64_t b = first; b < last; ++b) {
-      const int here = fill[b];
-      fill[b] = total;
+  const int sorters =
+      table <= 4 * static_cast<std::int64_t>(count) ? loop_threads(threads, count, 4096) : 1;
+  std::vector<int>& fill = scratch_.fill;  // (sorters, table) row by row
+  fill.resize(static_cast<size_t>(table) * sorters);
+  auto part_begin = [&](int t) {
+    return static_cast<int>(static_cast<long long>(count) * t / sorters);
+  };
+#pragma omp parallel for schedule(static) num_threads(sorters)
+  for (int t = 0; t < sorters; ++t) {
+    int* const own = fill.data() + static_cast<std::ptrdiff_t>(t) * table;
+    std::fill(own, own + table, 0);
+    for (int k = part_begin(t); k < part_begin(t + 1); ++k) ++own[bucket_of[finite[k]]];
+  }
+  int total = 0;
+  for (std::int64_t b = 0; b < table; ++b) {
+    bucket_start_[b] = total;
+    for (int t = 0; t < sorters; ++t) {
+      int& slot = fill[static_cast<std::ptrdiff_t>(t) * table + b];
+      const int here = slot;
+      slot = total;
       total += here;
     }
-    range_total[t + 1] = total;
-#pragma omp barrier
-    int offset = 0;  // points in the ranges before this one
-    for (int r = 0; r <= t; ++r) offset += range_total[r];
-    for (std::int64_t b = first; b < last; ++b) {
-      fill[b] += offset;
-      bucket_start_[b] = fill[b];
-    }
-    if (t + 1 == members) bucket_start_[table] = count;
-    for (int i : finite) {
-      const int b = bucket_of[i];
-      if (b < first || b >= last) continue;
-      const int slot = fill[b]++;
+  }
+  bucket_start_[table] = count;
+#pragma omp parallel for schedule(static) num_threads(sorters)
+  for (int t = 0; t < sorters; ++t) {
+    int* const own = fill.data() + static_cast<std::ptrdiff_t>(t) * table;
+    for (int k = part_begin(t); k < part_begin(t + 1); ++k) {
+      const int i = finite[k];
+      const int slot = own[bucket_of[i]]++;
       sorted_[slot] = i;
       sorted_key_[slot] = key_of[i];
       sorted_position_.col(slot) = points.col(i);

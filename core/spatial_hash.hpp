@@ -72,8 +72,12 @@ class SpatialHash {
   long long foreign_entries() const;
 
  private:
+  // floor(x / cell) for a coordinate within the grid (in_grid: at most 2^20 cells out), without
+  // the library call std::floor is on a build for the baseline instruction set
   std::int64_t cell_of(double x) const {
-    return static_cast<std::int64_t>(std::floor(x * inv_cell_));
+    const double s = x * inv_cell_;
+    const auto toward_zero = static_cast<std::int64_t>(s);
+    return toward_zero - (s < static_cast<double>(toward_zero));
   }
   // finite and within the 2^20 cells a packed key holds per axis; other points are in no cell
   bool in_grid(const Vec3& p) const {

@@ -84,9 +84,13 @@ TEST(SpatialHash, SpreadOutPointsUseTheHashedTable) {
 
 TEST(SpatialHash, ThreadsBuildTheSameLayoutAndWalk) {
   // enough points for the box, the finite list and the counting sort to split among threads, in
-  // both layouts, with non-finite points among them: the pairs come in the same order
-  for (const bool spread : {false, true}) {
-    Positions x = random_box(20000, Vec3(1.2, 1.2, 0.02), 5);
+  // both layouts, with non-finite points among them: the pairs come in the same order. A sheet's
+  // grid has fewer cells than points (the sort's parts run on the threads); a thick box has 20
+  // cells a point (dense, but sorted on one thread: a histogram per thread would cost more)
+  enum class Layout { sheet, spread, thick };
+  for (const Layout layout : {Layout::sheet, Layout::spread, Layout::thick}) {
+    const bool spread = layout == Layout::spread;
+    Positions x = random_box(20000, Vec3(1.2, 1.2, layout == Layout::thick ? 0.28 : 0.02), 5);
     if (spread) {
       for (int i = 0; i < x.cols(); i += 3) x.col(i) += Vec3(30.0, -20.0, 10.0);
     }
