@@ -63,20 +63,17 @@ std::vector<PairBlock> make_pair_blocks(const EdgeConstraint* pairs, int begin, 
 #if defined(CHAINMAIL_AVX2_SWEEPS)
 namespace {
 
-// solve_edge_constraint in four lanes (no weight is zero: blocks hold no pin). Returns whether
-// any lane moved; worst takes the lanes' violations (max(v, worst) keeps worst on a NaN, as
-// std::max(worst, v) does)
-__attribute__((target("avx2"), always_inline)) inline bool solve_lanes(Lanes& p0, Lanes& p1,
-                                                                       __m256d w0, __m256d w1,
-                                                                       __m256d min_length,
-                                                                       __m256d max_length,
-                                                                       __m256d& worst) {
+// solve_edge_constraint in four lanes (no weight is zero: blocks hold no pin), from the squared
+// lengths on: whether any lane moves, and if so each lane's share of the difference vector for
+// either ring (s0, s1: corr0 = s0 d, corr1 = s1 d) where `active`. worst takes the lanes'
+// violations (max(v, worst) keeps worst on a NaN, as std::max(worst, v) does)
+struct LaneCorrection {
+  __m256d active, s0, s1;
+};
+__attribute__((target("avx2"), always_inline)) inline bool correct_lanes(
+    __m256d length2, __m256d w0, __m256d w1, __m256d min_length, __m256d max_length, __m256d& worst,
+    LaneCorrection& out) {
   const __m256d sign = _mm256_set1_pd(-0.0), zero = _mm256_setzero_pd();
-  const __m256d dx = _mm256_sub_pd(p1.x, p0.x), dy = _mm256_sub_pd(p1.y, p0.y),
-                dz = _mm256_sub_pd(p1.z, p0.z);
-  // (dx dx + dy dy) + dz dz: squaredNorm's order
-  const __m256d length2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
-                                        _mm256_mul_pd(dz, dz));
   const __m256d max2 = _mm256_mul_pd(max_length, max_length);
   const __m256d min2 = _mm256_mul_pd(min_length, min_length);
   const __m256d within = _mm256_and_pd(_mm256_cmp_pd(length2, max2, _CMP_LE_OQ),
@@ -93,15 +90,32 @@ __attribute__((target("avx2"), always_inline)) inline bool solve_lanes(Lanes& p0
   const __m256d violation = _mm256_andnot_pd(sign, error);
   active = _mm256_and_pd(active, _mm256_cmp_pd(violation, zero, _CMP_NEQ_UQ));
   if (_mm256_movemask_pd(active) == 0) return false;
-  const __m256d s0 = _mm256_mul_pd(w0, scale);
-  const __m256d s1 = _mm256_xor_pd(_mm256_mul_pd(w1, scale), sign);  // -(w1 scale)
-  p0.x = _mm256_blendv_pd(p0.x, _mm256_add_pd(p0.x, _mm256_mul_pd(s0, dx)), active);
-  p0.y = _mm256_blendv_pd(p0.y, _mm256_add_pd(p0.y, _mm256_mul_pd(s0, dy)), active);
-  p0.z = _mm256_blendv_pd(p0.z, _mm256_add_pd(p0.z, _mm256_mul_pd(s0, dz)), active);
-  p1.x = _mm256_blendv_pd(p1.x, _mm256_add_pd(p1.x, _mm256_mul_pd(s1, dx)), active);
-  p1.y = _mm256_blendv_pd(p1.y, _mm256_add_pd(p1.y, _mm256_mul_pd(s1, dy)), active);
-  p1.z = _mm256_blendv_pd(p1.z, _mm256_add_pd(p1.z, _mm256_mul_pd(s1, dz)), active);
+  out.active = active;
+  out.s0 = _mm256_mul_pd(w0, scale);
+  out.s1 = _mm256_xor_pd(_mm256_mul_pd(w1, scale), sign);  // -(w1 scale)
   worst = _mm256_max_pd(_mm256_and_pd(violation, active), worst);
+  return true;
+}
+
+// the same on rings in lanes
+__attribute__((target("avx2"), always_inline)) inline bool solve_lanes(Lanes& p0, Lanes& p1,
+                                                                       __m256d w0, __m256d w1,
+                                                                       __m256d min_length,
+                                                                       __m256d max_length,
+                                                                       __m256d& worst) {
+  const __m256d dx = _mm256_sub_pd(p1.x, p0.x), dy = _mm256_sub_pd(p1.y, p0.y),
+                dz = _mm256_sub_pd(p1.z, p0.z);
+  // (dx dx + dy dy) + dz dz: squaredNorm's order
+  const __m256d length2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
+                                        _mm256_mul_pd(dz, dz));
+  LaneCorrection c;
+  if (!correct_lanes(length2, w0, w1, min_length, max_length, worst, c)) return false;
+  p0.x = _mm256_blendv_pd(p0.x, _mm256_add_pd(p0.x, _mm256_mul_pd(c.s0, dx)), c.active);
+  p0.y = _mm256_blendv_pd(p0.y, _mm256_add_pd(p0.y, _mm256_mul_pd(c.s0, dy)), c.active);
+  p0.z = _mm256_blendv_pd(p0.z, _mm256_add_pd(p0.z, _mm256_mul_pd(c.s0, dz)), c.active);
+  p1.x = _mm256_blendv_pd(p1.x, _mm256_add_pd(p1.x, _mm256_mul_pd(c.s1, dx)), c.active);
+  p1.y = _mm256_blendv_pd(p1.y, _mm256_add_pd(p1.y, _mm256_mul_pd(c.s1, dy)), c.active);
+  p1.z = _mm256_blendv_pd(p1.z, _mm256_add_pd(p1.z, _mm256_mul_pd(c.s1, dz)), c.active);
   return true;
 }
 
@@ -122,20 +136,51 @@ __attribute__((target("avx2"), always_inline)) inline LaneBounds lane_bounds(
                          f[fourth].max_length)};
 }
 
-// pairs (a + i, b + i)
+// pairs (a + i, b + i). Both runs of four rings are 12 consecutive coordinates in the same order
+// (x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3), so the differences and their squares are taken as the
+// array holds them, and only the squares are turned into lanes for the test (the same values as
+// in lanes, so the same bits); a block within its bounds, the usual case, ends there. The
+// corrections go back the same way: each lane's share repeated over its ring's three coordinates
+__attribute__((target("avx2"), always_inline)) inline void spread_lanes(__m256d lanes,
+                                                                        __m256d out[3]) {
+  out[0] = _mm256_permute4x64_pd(lanes, 0x40);  // 0 0 0 1
+  out[1] = _mm256_permute4x64_pd(lanes, 0xA5);  // 1 1 2 2
+  out[2] = _mm256_permute4x64_pd(lanes, 0xFE);  // 2 3 3 3
+}
+
 __attribute__((target("avx2"))) void solve_run(double* x, const double* w,
                                                const EdgeConstraint* pairs, const PairBlock& block,
                                                __m256d& worst) {
   double* const p0 = x + 3 * static_cast<std::ptrdiff_t>(block.a);
   double* const p1 = x + 3 * static_cast<std::ptrdiff_t>(block.b);
-  Lanes r0 = load_rings(p0), r1 = load_rings(p1);
+  __m256d r0[3], r1[3], d[3];
+  for (int k = 0; k < 3; ++k) {
+    r0[k] = _mm256_loadu_pd(p0 + 4 * k);
+    r1[k] = _mm256_loadu_pd(p1 + 4 * k);
+    d[k] = _mm256_sub_pd(r1[k], r0[k]);
+  }
+  const Lanes square =
+      to_lanes(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1]), _mm256_mul_pd(d[2], d[2]));
+  // (dx dx + dy dy) + dz dz: squaredNorm's order
+  const __m256d length2 = _mm256_add_pd(_mm256_add_pd(square.x, square.y), square.z);
   const LaneBounds bounds = lane_bounds(pairs, block, 0, 1, 2, 3);
-  if (!solve_lanes(r0, r1, _mm256_loadu_pd(w + block.a), _mm256_loadu_pd(w + block.b),
-                   bounds.min_length, bounds.max_length, worst)) {
+  LaneCorrection c;
+  if (!correct_lanes(length2, _mm256_loadu_pd(w + block.a), _mm256_loadu_pd(w + block.b),
+                     bounds.min_length, bounds.max_length, worst, c)) {
     return;
   }
-  store_rings(p0, r0);
-  store_rings(p1, r1);
+  __m256d active[3], s0[3], s1[3];
+  spread_lanes(c.active, active);
+  spread_lanes(c.s0, s0);
+  spread_lanes(c.s1, s1);
+  for (int k = 0; k < 3; ++k) {
+    _mm256_storeu_pd(
+        p0 + 4 * k,
+        _mm256_blendv_pd(r0[k], _mm256_add_pd(r0[k], _mm256_mul_pd(s0[k], d[k])), active[k]));
+    _mm256_storeu_pd(
+        p1 + 4 * k,
+        _mm256_blendv_pd(r1[k], _mm256_add_pd(r1[k], _mm256_mul_pd(s1[k], d[k])), active[k]));
+  }
 }
 
 // pairs (a + 2 i, a + 2 i + 1): rings a .. a + 7, the even ones one side, the odd the other (the
@@ -193,22 +238,10 @@ __attribute__((target("avx2"), always_inline)) inline __m256d load_ring(const do
   return _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p)), _mm_load_sd(p + 2), 1);
 }
 
-__attribute__((target("avx2"))) void solve_attachment_run(double* x, const PinAttachment* f,
-                                                          __m256d& worst) {
-  double* const p = x + 3 * static_cast<std::ptrdiff_t>(f[0].ring);
-  Lanes rings = load_rings(p);
-  // the four pins, x y z (and a zero) each, transposed into lanes
-  const __m256d pin0 = load_ring(x, f[0].pin), pin1 = load_ring(x, f[1].pin);
-  const __m256d pin2 = load_ring(x, f[2].pin), pin3 = load_ring(x, f[3].pin);
-  const __m256d xz01 = _mm256_unpacklo_pd(pin0, pin1), y01 = _mm256_unpackhi_pd(pin0, pin1);
-  const __m256d xz23 = _mm256_unpacklo_pd(pin2, pin3), y23 = _mm256_unpackhi_pd(pin2, pin3);
-  const __m256d dx = _mm256_sub_pd(rings.x, _mm256_permute2f128_pd(xz01, xz23, 0x20));
-  const __m256d dy = _mm256_sub_pd(rings.y, _mm256_permute2f128_pd(y01, y23, 0x20));
-  const __m256d dz = _mm256_sub_pd(rings.z, _mm256_permute2f128_pd(xz01, xz23, 0x31));
-  const __m256d length2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
-                                        _mm256_mul_pd(dz, dz));
-  const __m256d reach =
-      _mm256_setr_pd(f[0].max_distance, f[1].max_distance, f[2].max_distance, f[3].max_distance);
+// the attachments' test and correction from the rings' and their differences' lanes
+__attribute__((target("avx2"), always_inline)) inline void correct_attachments(
+    double* p, Lanes rings, __m256d dx, __m256d dy, __m256d dz, __m256d length2, __m256d reach,
+    __m256d& worst) {
   const __m256d within = _mm256_cmp_pd(length2, _mm256_mul_pd(reach, reach), _CMP_LE_OQ);
   if (_mm256_movemask_pd(within) == 0xF) return;  // the usual case
   const __m256d length = _mm256_sqrt_pd(length2);
@@ -223,6 +256,49 @@ __attribute__((target("avx2"))) void solve_attachment_run(double* x, const PinAt
   rings.z = _mm256_blendv_pd(rings.z, _mm256_add_pd(rings.z, _mm256_mul_pd(scale, dz)), active);
   store_rings(p, rings);
   worst = _mm256_max_pd(_mm256_and_pd(violation, active), worst);
+}
+
+__attribute__((target("avx2"))) void solve_attachment_run(double* x, const PinAttachment* f,
+                                                          __m256d& worst) {
+  double* const p = x + 3 * static_cast<std::ptrdiff_t>(f[0].ring);
+  const __m256d reach =
+      _mm256_setr_pd(f[0].max_distance, f[1].max_distance, f[2].max_distance, f[3].max_distance);
+  if (f[1].pin == f[0].pin + 1 && f[2].pin == f[0].pin + 2 && f[3].pin == f[0].pin + 3) {
+    // four consecutive pins (rings along a pinned edge hang from the pins along it): rings and
+    // pins hold their coordinates in the same order, so the differences and their squares are
+    // taken as the array holds them and only the squares turned into lanes for the test (the
+    // same values as in lanes)
+    const double* const q = x + 3 * static_cast<std::ptrdiff_t>(f[0].pin);
+    __m256d r[3], d[3];
+    for (int k = 0; k < 3; ++k) {
+      r[k] = _mm256_loadu_pd(p + 4 * k);
+      d[k] = _mm256_sub_pd(r[k], _mm256_loadu_pd(q + 4 * k));
+    }
+    const Lanes square =
+        to_lanes(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1]), _mm256_mul_pd(d[2], d[2]));
+    // (dx dx + dy dy) + dz dz: squaredNorm's order
+    const __m256d length2 = _mm256_add_pd(_mm256_add_pd(square.x, square.y), square.z);
+    if (_mm256_movemask_pd(_mm256_cmp_pd(length2, _mm256_mul_pd(reach, reach), _CMP_LE_OQ)) ==
+        0xF) {
+      return;  // the usual case
+    }
+    const Lanes diff = to_lanes(d[0], d[1], d[2]);
+    correct_attachments(p, to_lanes(r[0], r[1], r[2]), diff.x, diff.y, diff.z, length2, reach,
+                        worst);
+    return;
+  }
+  const Lanes rings = load_rings(p);
+  // the four pins, x y z (and a zero) each, transposed into lanes
+  const __m256d pin0 = load_ring(x, f[0].pin), pin1 = load_ring(x, f[1].pin);
+  const __m256d pin2 = load_ring(x, f[2].pin), pin3 = load_ring(x, f[3].pin);
+  const __m256d xz01 = _mm256_unpacklo_pd(pin0, pin1), y01 = _mm256_unpackhi_pd(pin0, pin1);
+  const __m256d xz23 = _mm256_unpacklo_pd(pin2, pin3), y23 = _mm256_unpackhi_pd(pin2, pin3);
+  const __m256d dx = _mm256_sub_pd(rings.x, _mm256_permute2f128_pd(xz01, xz23, 0x20));
+  const __m256d dy = _mm256_sub_pd(rings.y, _mm256_permute2f128_pd(y01, y23, 0x20));
+  const __m256d dz = _mm256_sub_pd(rings.z, _mm256_permute2f128_pd(xz01, xz23, 0x31));
+  const __m256d length2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
+                                        _mm256_mul_pd(dz, dz));
+  correct_attachments(p, rings, dx, dy, dz, length2, reach, worst);
 }
 
 __attribute__((target("avx2"))) double sweep_attachments_avx2(double* x, const PinAttachment* list,
