@@ -288,7 +288,7 @@ std::string bench_readme(double minutes) {
          "- `<scene>/` — each scene's `summary.json`, `metrics.csv` (every sample), `table.md` and "
          "`images/` (the final frame of every backend side by side, when rendering is available).\n"
          "- `scaling.md` / `scaling.csv` / `scaling.png` — the curtain at 16 to 256 rings a side: "
-         "ms per step of plausible on 1 and 2 threads (median of 3 runs), speed-up, cost per ring "
+         "ms per step of plausible on 1 and 2 threads (median of 5 runs), speed-up, cost per ring "
          "per step, max_stretch and whether the final hash is the same on any thread count; the "
          "other backends up to the size they finish within a minute (median of 3 runs where a "
          "run takes at most about 12 s), with each one's cost relative to ODE's; the runs at a "

@@ -13,7 +13,8 @@ namespace chainmail {
 struct ScalingPlan {
   std::vector<int> sides;         // rings a side
   double duration = 0.4;          // s simulated per run
-  int repeats = 3;                // runs per cell of plausible and the cheap backends (the median)
+  int repeats = 3;                // runs per cell of the cheap backends (the median)
+  int plausible_repeats = 5;      // ... and of plausible (its 2-thread times swing the most)
   std::vector<int> threads;       // thread counts of the backends that step on several
   double budget_s = 60.0;         // other backends: sizes whose estimated run fits this, wall s
   double repeat_budget_s = 12.0;  // ... and `repeats` runs where it fits this (one otherwise)

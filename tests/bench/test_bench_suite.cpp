@@ -90,7 +90,7 @@ TEST(Scaling, RepeatsGoRoundTheThreadCountsSoASlowSpellFallsOnAll) {
   // two runs per cell: 1 thread, 2 threads, 1 thread, 2 threads (not 1, 1, 2, 2), each cell the
   // median of its own two
   ScalingPlan plan = scaling_plan(true, 4);
-  plan.repeats = 2;
+  plan.plausible_repeats = 2;
   const fs::path out = fs::temp_directory_path() / "chainmail_test_scaling_rounds";
   fs::remove_all(out);
   fs::create_directories(out);
