@@ -125,6 +125,7 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   state_.contact_normal = Positions::Zero(3, n);
   state_.contact_friction = Eigen::VectorXd::Zero(n);
   state_.substeps = kLargeSheetSubsteps;  // where the control runs (controls_substeps)
+  velocities_pending_ = false;
   profile_.clear();
   orient();
 }
@@ -132,7 +133,10 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
 void PlausibleSim::step(double dt) {
   const int substeps = substep_count();
   const double h = dt / substeps;  // s
-  for (int k = 0; k < substeps; ++k) substep(h, k + 1 == substeps ? dt : 0.0);
+  for (int k = 0; k < substeps; ++k) {
+    const bool last = k + 1 == substeps;
+    substep(h, last ? dt : 0.0, !last);
+  }
   // ring orientation from the neighbour vectors (paper §4): the colliders read it every step (a
   // torus reaches into a collider by its orientation); otherwise only frames do, and it waits
   orientation_stale_ = true;
@@ -185,7 +189,7 @@ void PlausibleSim::control_substeps() {
   }
 }
 
-void PlausibleSim::substep(double h, double damp_dt) {
+void PlausibleSim::substep(double h, double damp_dt, bool another_follows) {
   const bool contacts = model_.self_contact && state_.position.cols() > 1;
   const bool spring = model_.settings.repulsion_spring;
   // external forces: with the repulsion spring between non-neighbours, gravity and the springs
@@ -212,7 +216,13 @@ void PlausibleSim::substep(double h, double damp_dt) {
   solve_positions();
   profile_.record_residual(state_.residual, model_.settings.tolerance * model_.longest_link);
   // velocities from the constrained motion (paper §3), collider friction; damping once per
-  // step, in the last substep (it removes min(1, damping dt) of the motion it damps)
+  // step, in the last substep (it removes min(1, damping dt) of the motion it damps). Where
+  // nothing comes between them and the next substep's prediction (no damping, no friction, no
+  // forces to sum), they wait for it: one pass over the rings instead of two
+  if (another_follows && damp_dt == 0.0 && model_.colliders.empty() && !spring) {
+    velocities_pending_ = true;
+    return;
+  }
   update_velocities(h, damp_dt);
 }
 
@@ -304,9 +314,15 @@ void PlausibleSim::integrate(double dt, RingMoves* moves) {
     // do not depend on the order)
     const double* anchor =
         moves && state_.contact_anchor.cols() == n ? state_.contact_anchor.data() : nullptr;
+    // (with the last substep's velocities first, where they waited: substeps of one step share h)
+    const bool velocities_first = velocities_pending_;
+    velocities_pending_ = false;
     std::vector<RingMoves> part(loop_threads(threads_, n));
     for_ring_ranges(n, threads_, [&](int range, int begin, int end) {
-      part[range] = predict_rings(ring_arrays(), fall, dt, begin, end, vector_sweeps_, anchor);
+      part[range] = velocities_first ? update_velocities_and_predict(ring_arrays(), fall, dt, begin,
+                                                                     end, vector_sweeps_, anchor)
+                                     : predict_rings(ring_arrays(), fall, dt, begin, end,
+                                                     vector_sweeps_, anchor);
     });
     if (anchor) {
       *moves = RingMoves{};

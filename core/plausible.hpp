@@ -235,10 +235,13 @@ class PlausibleSim {
   double stretch_control_level() const;
   void control_substeps();
   static constexpr int kExtraSweeps = 8;
-  // one predict-solve-update pass of h seconds; damps as for damp_dt seconds (0: not at all)
-  void substep(double h, double damp_dt);
-  // the prediction; with `moves` (and a contact list), also the rings' moves from the list's
-  // anchor, measured in the same pass
+  // one predict-solve-update pass of h seconds; damps as for damp_dt seconds (0: not at all).
+  // another_follows: a substep of the same h comes next in this step (the velocity update may
+  // then wait for its prediction, to go in one pass with it)
+  void substep(double h, double damp_dt, bool another_follows);
+  // the prediction (after the velocity update the substep before left pending, in the same pass);
+  // with `moves` (and a contact list), also the rings' moves from the list's anchor, measured in
+  // the same pass
   void integrate(double dt, RingMoves* moves = nullptr);
   void solve_positions();
   bool solves_contacts() const;
@@ -292,6 +295,8 @@ class PlausibleSim {
   // mutable only for the orientations orient() derives from the positions on demand
   mutable PlausibleState state_;
   mutable bool orientation_stale_ = false;
+  // the last substep's velocity update waits for the next prediction (integrate does both)
+  bool velocities_pending_ = false;
   SpatialHash hash_;
   // the contact list's pair walk, one list per part (each on cache lines of its own: the parts
   // push at once), kept from rebuild to rebuild with their memory

@@ -68,6 +68,9 @@ __attribute__((target("avx2"), always_inline)) inline FreeMask free_mask(const d
            _mm256_permute4x64_pd(free, 0xFE)}};  // 2 3 3 3
 }
 
+// velocities_first: each ring's velocity from its move over the substep before (the velocity
+// pass, velocities_avx2's arithmetic) before it is predicted
+template <bool velocities_first>
 __attribute__((target("avx2"))) void predict_avx2(const RingArrays& r, const Vec3& fall, double h,
                                                   int begin, int end, const double* anchor,
                                                   RingMoves& moves) {
@@ -89,7 +92,14 @@ __attribute__((target("avx2"))) void predict_avx2(const RingArrays& r, const Vec
     __m256d move[3] = {_mm256_setzero_pd(), _mm256_setzero_pd(), _mm256_setzero_pd()};
     for (int k = 0; k < 3; ++k) {
       const __m256d x = _mm256_loadu_pd(r.position + at + 4 * k);
-      const __m256d v = _mm256_loadu_pd(r.velocity + at + 4 * k);
+      __m256d v;
+      if constexpr (velocities_first) {
+        v = _mm256_and_pd(
+            _mm256_div_pd(_mm256_sub_pd(x, _mm256_loadu_pd(r.previous + at + 4 * k)), step),
+            free.part[k]);  // pinned: +0
+      } else {
+        v = _mm256_loadu_pd(r.velocity + at + 4 * k);
+      }
       _mm256_storeu_pd(r.previous + at + 4 * k, x);
       const __m256d v_next = _mm256_add_pd(v, fall_part[k]);
       const __m256d x_next =
@@ -127,6 +137,7 @@ __attribute__((target("avx2"))) void predict_avx2(const RingArrays& r, const Vec
   // clear the vector registers' upper halves before the scalar code (GCC leaves it out before a
   // tail call, and SSE code after it then runs several times slower)
   _mm256_zeroupper();
+  if constexpr (velocities_first) velocities_scalar(r, h, i, end);
   predict_scalar(r, fall, h, i, end, anchor, moves);
 }
 
@@ -156,11 +167,28 @@ RingMoves predict_rings(const RingArrays& rings, const Vec3& fall, double h, int
   RingMoves moves;
 #if defined(CHAINMAIL_AVX2_SWEEPS)
   if (vector && vector_sweeps_available()) {
-    predict_avx2(rings, fall, h, begin, end, anchor, moves);
+    predict_avx2<false>(rings, fall, h, begin, end, anchor, moves);
     return moves;
   }
 #endif
   (void)vector;
+  predict_scalar(rings, fall, h, begin, end, anchor, moves);
+  return moves;
+}
+
+RingMoves update_velocities_and_predict(const RingArrays& rings, const Vec3& fall, double h,
+                                        int begin, int end, bool vector, const double* anchor) {
+  RingMoves moves;
+#if defined(CHAINMAIL_AVX2_SWEEPS)
+  if (vector && vector_sweeps_available()) {
+    predict_avx2<true>(rings, fall, h, begin, end, anchor, moves);
+    return moves;
+  }
+#endif
+  (void)vector;
+  // ring by ring as the vector pass goes four at a time (each ring's velocity depends on its own
+  // position alone, so the order of the two passes over a range changes nothing)
+  velocities_scalar(rings, h, begin, end);
   predict_scalar(rings, fall, h, begin, end, anchor, moves);
   return moves;
 }

@@ -39,6 +39,13 @@ struct RingMoves {
 RingMoves predict_rings(const RingArrays& rings, const Vec3& fall, double h, int begin, int end,
                         bool vector = true, const double* anchor = nullptr);
 
+// the velocity update of the substep before (update_ring_velocities over h) and then the
+// prediction (predict_rings), in one pass: each ring's position is read once for both. The same
+// arithmetic as the two passes one after the other, so the same bits
+RingMoves update_velocities_and_predict(const RingArrays& rings, const Vec3& fall, double h,
+                                        int begin, int end, bool vector = true,
+                                        const double* anchor = nullptr);
+
 // rings [begin, end): velocity = (position - previous) / h for a free ring, 0 for a pinned one
 // (collider friction is the caller's, after)
 void update_ring_velocities(const RingArrays& rings, double h, int begin, int end,
