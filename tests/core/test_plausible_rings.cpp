@@ -98,5 +98,41 @@ TEST(PlausibleRings, VectorVelocitiesGiveTheScalarBits) {
   EXPECT_EQ(vector.velocity[0], start.velocity[0]);  // before begin: untouched
 }
 
+TEST(PlausibleRings, VelocitiesAndPredictionInOnePassGiveTheTwoPassesBits) {
+  // the velocity update then the prediction, one pass each, against both in one pass, scalar and
+  // in lanes: groups of four and a tail, pinned rings, a NaN in the positions
+  constexpr int kRings = 21;
+  std::mt19937 random(9);
+  Rings start(kRings, random);
+  start.position[3 * 9 + 2] = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<double> anchor = Rings(kRings, random).position;
+  const Vec3 fall(0.0, -0.0392, 0.001);  // m/s
+  for (int begin : {0, 3}) {
+    Rings two = start;
+    update_ring_velocities(two.arrays(), 0.004, begin, kRings, false);
+    const RingMoves a =
+        predict_rings(two.arrays(), fall, 0.004, begin, kRings, false, anchor.data());
+    for (bool vector : {false, true}) {
+      Rings one = start;
+      const RingMoves b = update_velocities_and_predict(one.arrays(), fall, 0.004, begin, kRings,
+                                                        vector, anchor.data());
+      EXPECT_TRUE(same_bits(two.position, one.position)) << vector;
+      EXPECT_TRUE(same_bits(two.velocity, one.velocity)) << vector;
+      EXPECT_TRUE(same_bits(two.previous, one.previous)) << vector;
+      EXPECT_TRUE(same_bits(two.push, one.push)) << vector;
+      EXPECT_EQ(a.farthest2, b.farthest2) << vector;
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(a.lo[c], b.lo[c]) << vector;
+        EXPECT_EQ(a.hi[c], b.hi[c]) << vector;
+      }
+    }
+    // a free ring's new velocity is its move over the substep before plus gravity's step
+    const int i = begin + 1;
+    ASSERT_NE(start.inverse_mass[i], 0.0);
+    EXPECT_EQ(two.velocity[3 * i + 1],
+              (start.position[3 * i + 1] - start.previous[3 * i + 1]) / 0.004 + fall.y());
+  }
+}
+
 }  // namespace
 }  // namespace chainmail
