@@ -108,9 +108,14 @@ struct PairBlock {
   int a = 0, b = 0;  // the first pair's rings
   Kind kind = Kind::single;
   int pair = 0;  // the first pair's index in the stage's list
+  // run or adjacent with shared bounds: groups of four, each continuing the last (its rings 4,
+  // or for adjacent sets 8, further on, its pairs the next four), solved one after the other
+  // without reading another block (a regular weave's colours run along whole rows)
+  int groups = 1;
   // m, the four pairs' bounds where they share them (else read from the pairs)
   bool shared_bounds = true;
   double min_length = 0.0, max_length = 0.0;
+  int pairs() const { return kind == Kind::single ? 1 : 4 * groups; }
 };
 
 // the sweep's attachments, edges and diagonals as stages (an attachment list, a colour) cut into

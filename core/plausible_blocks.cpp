@@ -29,6 +29,17 @@ PairBlock::Kind block_kind(const EdgeConstraint* f) {
   return PairBlock::Kind::single;
 }
 
+// `next` is one more group of `last`: the same kind and shared bounds, its rings and pairs where
+// last's next group's would be
+bool continues(const PairBlock& last, const PairBlock& next) {
+  if (last.kind == PairBlock::Kind::single || next.kind != last.kind) return false;
+  if (!last.shared_bounds || !next.shared_bounds) return false;
+  if (next.min_length != last.min_length || next.max_length != last.max_length) return false;
+  const int rings = last.kind == PairBlock::Kind::run ? 4 : 8;  // a group's, on each side
+  return next.a == last.a + rings * last.groups && next.b == last.b + rings * last.groups &&
+         next.pair == last.pair + 4 * last.groups;
+}
+
 }  // namespace
 
 bool vector_sweeps_available() {
@@ -44,7 +55,7 @@ std::vector<PairBlock> make_pair_blocks(const EdgeConstraint* pairs, int begin, 
   std::vector<PairBlock> blocks;
   for (int k = begin; k < end;) {
     const EdgeConstraint* f = pairs + k;
-    PairBlock block{f->a, f->b, PairBlock::Kind::single, k, true, f->min_length, f->max_length};
+    PairBlock block{f->a, f->b, PairBlock::Kind::single, k, 1, true, f->min_length, f->max_length};
     if (k + 4 <= end) {
       const PairBlock::Kind kind = block_kind(f);
       bool fits = kind != PairBlock::Kind::single;
@@ -54,8 +65,12 @@ std::vector<PairBlock> make_pair_blocks(const EdgeConstraint* pairs, int begin, 
       }
       if (fits) block.kind = kind;
     }
-    blocks.push_back(block);
-    k += block.kind == PairBlock::Kind::single ? 1 : 4;
+    k += block.pairs();
+    if (!blocks.empty() && continues(blocks.back(), block)) {
+      ++blocks.back().groups;
+    } else {
+      blocks.push_back(block);
+    }
   }
   return blocks;
 }
@@ -148,11 +163,12 @@ __attribute__((target("avx2"), always_inline)) inline void spread_lanes(__m256d 
   out[2] = _mm256_permute4x64_pd(lanes, 0xFE);  // 2 3 3 3
 }
 
-__attribute__((target("avx2"))) void solve_run(double* x, const double* w,
-                                               const EdgeConstraint* pairs, const PairBlock& block,
-                                               __m256d& worst) {
-  double* const p0 = x + 3 * static_cast<std::ptrdiff_t>(block.a);
-  double* const p1 = x + 3 * static_cast<std::ptrdiff_t>(block.b);
+__attribute__((target("avx2"), always_inline)) inline void solve_run(double* x, const double* w,
+                                                                     int a, int b,
+                                                                     const LaneBounds& bounds,
+                                                                     __m256d& worst) {
+  double* const p0 = x + 3 * static_cast<std::ptrdiff_t>(a);
+  double* const p1 = x + 3 * static_cast<std::ptrdiff_t>(b);
   __m256d r0[3], r1[3], d[3];
   for (int k = 0; k < 3; ++k) {
     r0[k] = _mm256_loadu_pd(p0 + 4 * k);
@@ -163,10 +179,9 @@ __attribute__((target("avx2"))) void solve_run(double* x, const double* w,
       to_lanes(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1]), _mm256_mul_pd(d[2], d[2]));
   // (dx dx + dy dy) + dz dz: squaredNorm's order
   const __m256d length2 = _mm256_add_pd(_mm256_add_pd(square.x, square.y), square.z);
-  const LaneBounds bounds = lane_bounds(pairs, block, 0, 1, 2, 3);
   LaneCorrection c;
-  if (!correct_lanes(length2, _mm256_loadu_pd(w + block.a), _mm256_loadu_pd(w + block.b),
-                     bounds.min_length, bounds.max_length, worst, c)) {
+  if (!correct_lanes(length2, _mm256_loadu_pd(w + a), _mm256_loadu_pd(w + b), bounds.min_length,
+                     bounds.max_length, worst, c)) {
     return;
   }
   __m256d active[3], s0[3], s1[3];
@@ -185,17 +200,17 @@ __attribute__((target("avx2"))) void solve_run(double* x, const double* w,
 
 // pairs (a + 2 i, a + 2 i + 1): rings a .. a + 7, the even ones one side, the odd the other (the
 // lanes hold pairs 0, 2, 1, 3: unpacking keeps 128-bit halves apart, and lanes are independent)
-__attribute__((target("avx2"))) void solve_adjacent(double* x, const double* w,
-                                                    const EdgeConstraint* pairs,
-                                                    const PairBlock& block, __m256d& worst) {
-  double* const p = x + 3 * static_cast<std::ptrdiff_t>(block.a);
+__attribute__((target("avx2"), always_inline)) inline void solve_adjacent(double* x,
+                                                                          const double* w, int a,
+                                                                          const LaneBounds& bounds,
+                                                                          __m256d& worst) {
+  double* const p = x + 3 * static_cast<std::ptrdiff_t>(a);
   const Lanes low = load_rings(p), high = load_rings(p + 12);
   Lanes even{_mm256_unpacklo_pd(low.x, high.x), _mm256_unpacklo_pd(low.y, high.y),
              _mm256_unpacklo_pd(low.z, high.z)};
   Lanes odd{_mm256_unpackhi_pd(low.x, high.x), _mm256_unpackhi_pd(low.y, high.y),
             _mm256_unpackhi_pd(low.z, high.z)};
-  const __m256d w_low = _mm256_loadu_pd(w + block.a), w_high = _mm256_loadu_pd(w + block.a + 4);
-  const LaneBounds bounds = lane_bounds(pairs, block, 0, 2, 1, 3);
+  const __m256d w_low = _mm256_loadu_pd(w + a), w_high = _mm256_loadu_pd(w + a + 4);
   if (!solve_lanes(even, odd, _mm256_unpacklo_pd(w_low, w_high), _mm256_unpackhi_pd(w_low, w_high),
                    bounds.min_length, bounds.max_length, worst)) {
     return;
@@ -214,12 +229,20 @@ __attribute__((target("avx2"))) double sweep_blocks_avx2(double* x, const double
   for (int k = 0; k < count; ++k) {
     const PairBlock& block = blocks[k];
     switch (block.kind) {
-      case PairBlock::Kind::run:
-        solve_run(x, w, pairs, block, lanes_worst);
+      case PairBlock::Kind::run: {
+        const LaneBounds bounds = lane_bounds(pairs, block, 0, 1, 2, 3);
+        for (int g = 0; g < block.groups; ++g) {
+          solve_run(x, w, block.a + 4 * g, block.b + 4 * g, bounds, lanes_worst);
+        }
         break;
-      case PairBlock::Kind::adjacent:
-        solve_adjacent(x, w, pairs, block, lanes_worst);
+      }
+      case PairBlock::Kind::adjacent: {
+        const LaneBounds bounds = lane_bounds(pairs, block, 0, 2, 1, 3);
+        for (int g = 0; g < block.groups; ++g) {
+          solve_adjacent(x, w, block.a + 8 * g, bounds, lanes_worst);
+        }
         break;
+      }
       case PairBlock::Kind::single:
         worst = std::max(worst, sweep_pair(x, w, pairs[block.pair]));
         break;
@@ -333,8 +356,7 @@ double sweep_pair_blocks(double* x, const double* w, const EdgeConstraint* pairs
   // without AVX2: each block's pairs one by one (they are consecutive in the stage's list)
   double worst = 0.0;  // m
   for (int k = 0; k < count; ++k) {
-    const int pairs_in_block = blocks[k].kind == PairBlock::Kind::single ? 1 : 4;
-    for (int i = 0; i < pairs_in_block; ++i) {
+    for (int i = 0; i < blocks[k].pairs(); ++i) {
       worst = std::max(worst, sweep_pair(x, w, pairs[blocks[k].pair + i]));
     }
   }

@@ -23,8 +23,9 @@ namespace chainmail {
 bool vector_sweeps_available();
 
 // pairs [begin, end) of one stage (no two share a ring) as blocks, in order: four pairs make a
-// block when they form a run or an adjacent set and move no pin (a pin is never written, and
-// another thread may be reading it); the others are singles
+// group when they form a run or an adjacent set and move no pin (a pin is never written, and
+// another thread may be reading it), and groups that continue each other with the same bounds
+// one block; the others are singles
 std::vector<PairBlock> make_pair_blocks(const EdgeConstraint* pairs, int begin, int end,
                                         const std::vector<double>& inverse_mass);
 

@@ -46,10 +46,40 @@ TEST(PlausibleBlocks, FourPairsMakeABlockOnlyAsARunOrAnAdjacentSetWithoutPins) {
   int next = 0;
   for (const PairBlock& block : blocks) {
     EXPECT_EQ(block.pair, next);
-    next += block.kind == PairBlock::Kind::single ? 1 : 4;
+    EXPECT_EQ(block.groups, 1);
+    next += block.pairs();
   }
   EXPECT_EQ(next, static_cast<int>(pairs.size()));
   for (size_t k = 2; k < blocks.size(); ++k) EXPECT_EQ(blocks[k].kind, PairBlock::Kind::single);
+}
+
+TEST(PlausibleBlocks, GroupsThatContinueEachOtherMakeOneBlock) {
+  // a run of 12 pairs (r, r + 16) with shared bounds is one block of three groups; the next run
+  // continues it in rings but not in bounds, the adjacent sets after continue each other (8 rings
+  // further on) until one moves a pin
+  std::vector<double> w(64, 1.0);
+  w[60] = 0.0;
+  std::vector<EdgeConstraint> pairs;
+  for (int r = 0; r < 12; ++r) pairs.push_back({r, r + 16, 0.1, 1.0});
+  for (int r = 12; r < 16; ++r) pairs.push_back({r, r + 16, 0.1, 0.9});
+  for (int r = 32; r < 64; r += 2) pairs.push_back({r, r + 1, 0.1, 1.0});
+  const std::vector<PairBlock> blocks =
+      make_pair_blocks(pairs.data(), 0, static_cast<int>(pairs.size()), w);
+  ASSERT_EQ(blocks.size(), 3u + 4);
+  EXPECT_EQ(blocks[0].kind, PairBlock::Kind::run);
+  EXPECT_EQ(blocks[0].groups, 3);
+  EXPECT_EQ(blocks[1].kind, PairBlock::Kind::run);
+  EXPECT_EQ(blocks[1].groups, 1);
+  EXPECT_EQ(blocks[2].kind, PairBlock::Kind::adjacent);
+  EXPECT_EQ(blocks[2].a, 32);
+  EXPECT_EQ(blocks[2].groups, 3);  // rings 32..55; the fourth set holds the pin at 60
+  for (size_t k = 3; k < blocks.size(); ++k) EXPECT_EQ(blocks[k].kind, PairBlock::Kind::single);
+  int next = 0;
+  for (const PairBlock& block : blocks) {
+    EXPECT_EQ(block.pair, next);
+    next += block.pairs();
+  }
+  EXPECT_EQ(next, static_cast<int>(pairs.size()));
 }
 
 // positions of `rings` rings near a lattice, each pair set to one of the cases the lanes must
@@ -85,8 +115,9 @@ std::vector<double> case_positions(int rings, const std::vector<EdgeConstraint>&
 }
 
 TEST(PlausibleBlocks, BlocksGiveTheScalarSweepsBits) {
-  // runs (r, r + 8) and adjacent pairs over 64 rings, one pinned, one with a NaN: swept as
-  // blocks and pair by pair, many times over random cases, the same bits and the same violation
+  // runs (r, r + 8), (r, r + 16), (r, r + 40) and adjacent pairs over 64 rings, one pinned, one
+  // with a NaN: swept as blocks and pair by pair, many times over random cases, the same bits and
+  // the same violation
   constexpr int kRings = 64;
   std::vector<double> w(kRings);
   std::mt19937 random(7);
@@ -97,11 +128,15 @@ TEST(PlausibleBlocks, BlocksGiveTheScalarSweepsBits) {
   for (int r = 0; r < 8; ++r) pairs.push_back({r, r + 8, 0.3, 0.9});
   for (int r = 16; r < 32; ++r) pairs.push_back({r, r + 16, 0.2 + 0.1 * (r % 2), 0.8});
   for (int r = 48; r < 64; r += 2) pairs.push_back({r, r + 1, 0.3, 0.9});
+  for (int r = 8; r < 16; ++r) pairs.push_back({r, r + 40, 0.3, 0.9});  // a block of two groups
   const int count = static_cast<int>(pairs.size());
   const std::vector<PairBlock> blocks = make_pair_blocks(pairs.data(), 0, count, w);
-  int vectored = 0;
-  for (const PairBlock& block : blocks) vectored += block.kind != PairBlock::Kind::single;
-  EXPECT_EQ(vectored, 7);  // the pinned run's first block stays four singles
+  int vectored = 0;  // groups of four
+  for (const PairBlock& block : blocks) {
+    if (block.kind != PairBlock::Kind::single) vectored += block.groups;
+  }
+  EXPECT_EQ(vectored, 9);            // the pinned run's first block stays four singles
+  EXPECT_LT(blocks.size(), 9u + 4);  // groups that continue each other made one block
   for (int trial = 0; trial < 200; ++trial) {
     std::vector<double> scalar = case_positions(kRings, pairs, random);
     if (trial % 10 == 0) scalar[3 * 20 + 1] = std::numeric_limits<double>::quiet_NaN();
