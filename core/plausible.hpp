@@ -118,6 +118,19 @@ struct PairBlock {
   int pairs() const { return kind == Kind::single ? 1 : 4 * groups; }
 };
 
+// a long-range attachment of a sweep's list alone, or groups of four attachments of consecutive
+// rings solved together in SIMD lanes (core/plausible_blocks)
+struct AttachmentBlock {
+  int item = 0;  // the first attachment's index in its list
+  // groups of four consecutive rings, each continuing the last (its rings 4 further on, its
+  // attachments the next four); 0: the item alone
+  int groups = 0;
+  // each group's four pins are consecutive rings too, each group's 4 on from the last's (rings
+  // along a pinned edge hang from the pins along it)
+  bool pin_run = false;
+  int items() const { return groups == 0 ? 1 : 4 * groups; }
+};
+
 // the sweep's attachments, edges and diagonals as stages (an attachment list, a colour) cut into
 // bands of consecutive rings (core/plausible_bands.cpp), each band at least as wide as the
 // farthest any pair reaches (|a - b|): a pair joins its lower ring's band to itself or the next.
@@ -132,7 +145,11 @@ struct SweepBands {
     std::vector<int> band_start;  // (bands + 1) the stage's items of each band, into its list
     // edges and diagonals: the stage's pairs as blocks, band by band
     std::vector<PairBlock> blocks;
-    std::vector<int> block_start;  // (bands + 1) each band's blocks, into blocks
+    std::vector<int> block_start;  // (bands + 1) each band's blocks, into (attachment_)blocks
+    // attachments: the list's items as blocks, band by band, and their max_distance in the
+    // list's order (m: four load as one vector)
+    std::vector<AttachmentBlock> attachment_blocks;
+    std::vector<double> reach;
   };
   std::vector<int> first_ring;  // (bands + 1)
   std::vector<Stage> stages;    // in the sweep's order

@@ -123,6 +123,14 @@ void PlausibleSim::build_sweep_bands() {
       while (at < items.size() && band_of(bands.first_ring, items[at].ring) < k) ++at;
       stage.band_start.push_back(static_cast<int>(at));
     }
+    stage.block_start.push_back(0);
+    for (int k = 0; k < count; ++k) {
+      const std::vector<AttachmentBlock> band =
+          make_attachment_blocks(items.data(), stage.band_start[k], stage.band_start[k + 1]);
+      stage.attachment_blocks.insert(stage.attachment_blocks.end(), band.begin(), band.end());
+      stage.block_start.push_back(static_cast<int>(stage.attachment_blocks.size()));
+    }
+    for (const PinAttachment& item : items) stage.reach.push_back(item.max_distance);
     bands.stages.push_back(std::move(stage));
   }
   add_colour_stages(SweepBands::Kind::edges, model_.edges, model_.edge_colours, model_.inverse_mass,
@@ -218,7 +226,12 @@ double PlausibleSim::solve_stage_band(const SweepBands::Stage& stage, int band) 
   double worst = 0.0;  // m
   if (stage.kind == SweepBands::Kind::attachments) {
     const PinAttachment* const list = model_.attachments[stage.list].data();
-    if (vector_sweeps_) return sweep_attachments(x, list, begin, end);
+    if (vector_sweeps_) {
+      const int first = stage.block_start[band];
+      return sweep_attachment_blocks(x, list, stage.reach.data(),
+                                     stage.attachment_blocks.data() + first,
+                                     stage.block_start[band + 1] - first);
+    }
     for (int k = begin; k < end; ++k) worst = std::max(worst, sweep_attachment(x, list[k]));
     return worst;
   }

@@ -75,6 +75,30 @@ std::vector<PairBlock> make_pair_blocks(const EdgeConstraint* pairs, int begin, 
   return blocks;
 }
 
+std::vector<AttachmentBlock> make_attachment_blocks(const PinAttachment* list, int begin, int end) {
+  std::vector<AttachmentBlock> blocks;
+  for (int k = begin; k < end;) {
+    const PinAttachment* f = list + k;
+    AttachmentBlock block{k, 0, false};
+    // one ring at most once, sorted by ring: four items three rings apart are consecutive rings
+    if (k + 4 <= end && f[3].ring == f[0].ring + 3) {
+      block.groups = 1;
+      block.pin_run =
+          f[1].pin == f[0].pin + 1 && f[2].pin == f[0].pin + 2 && f[3].pin == f[0].pin + 3;
+    }
+    k += block.items();
+    AttachmentBlock* last = blocks.empty() ? nullptr : &blocks.back();
+    if (last && last->groups > 0 && block.groups > 0 && block.pin_run == last->pin_run &&
+        f->ring == list[last->item].ring + 4 * last->groups &&
+        (!block.pin_run || f->pin == list[last->item].pin + 4 * last->groups)) {
+      ++last->groups;
+    } else {
+      blocks.push_back(block);
+    }
+  }
+  return blocks;
+}
+
 #if defined(CHAINMAIL_AVX2_SWEEPS)
 namespace {
 
@@ -281,37 +305,33 @@ __attribute__((target("avx2"), always_inline)) inline void correct_attachments(
   worst = _mm256_max_pd(_mm256_and_pd(violation, active), worst);
 }
 
-__attribute__((target("avx2"))) void solve_attachment_run(double* x, const PinAttachment* f,
-                                                          __m256d& worst) {
-  double* const p = x + 3 * static_cast<std::ptrdiff_t>(f[0].ring);
-  const __m256d reach =
-      _mm256_setr_pd(f[0].max_distance, f[1].max_distance, f[2].max_distance, f[3].max_distance);
-  if (f[1].pin == f[0].pin + 1 && f[2].pin == f[0].pin + 2 && f[3].pin == f[0].pin + 3) {
-    // four consecutive pins (rings along a pinned edge hang from the pins along it): rings and
-    // pins hold their coordinates in the same order, so the differences and their squares are
-    // taken as the array holds them and only the squares turned into lanes for the test (the
-    // same values as in lanes)
-    const double* const q = x + 3 * static_cast<std::ptrdiff_t>(f[0].pin);
-    __m256d r[3], d[3];
-    for (int k = 0; k < 3; ++k) {
-      r[k] = _mm256_loadu_pd(p + 4 * k);
-      d[k] = _mm256_sub_pd(r[k], _mm256_loadu_pd(q + 4 * k));
-    }
-    const Lanes square =
-        to_lanes(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1]), _mm256_mul_pd(d[2], d[2]));
-    // (dx dx + dy dy) + dz dz: squaredNorm's order
-    const __m256d length2 = _mm256_add_pd(_mm256_add_pd(square.x, square.y), square.z);
-    if (_mm256_movemask_pd(_mm256_cmp_pd(length2, _mm256_mul_pd(reach, reach), _CMP_LE_OQ)) ==
-        0xF) {
-      return;  // the usual case
-    }
-    const Lanes diff = to_lanes(d[0], d[1], d[2]);
-    correct_attachments(p, to_lanes(r[0], r[1], r[2]), diff.x, diff.y, diff.z, length2, reach,
-                        worst);
-    return;
+// a group of four consecutive rings p hanging from four consecutive pins q: rings and pins hold
+// their coordinates in the same order, so the differences and their squares are taken as the
+// array holds them and only the squares turned into lanes for the test (the same values as in
+// lanes)
+__attribute__((target("avx2"), always_inline)) inline void solve_attachment_pin_run(
+    double* p, const double* q, __m256d reach, __m256d& worst) {
+  __m256d r[3], d[3];
+  for (int k = 0; k < 3; ++k) {
+    r[k] = _mm256_loadu_pd(p + 4 * k);
+    d[k] = _mm256_sub_pd(r[k], _mm256_loadu_pd(q + 4 * k));
   }
+  const Lanes square =
+      to_lanes(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1]), _mm256_mul_pd(d[2], d[2]));
+  // (dx dx + dy dy) + dz dz: squaredNorm's order
+  const __m256d length2 = _mm256_add_pd(_mm256_add_pd(square.x, square.y), square.z);
+  if (_mm256_movemask_pd(_mm256_cmp_pd(length2, _mm256_mul_pd(reach, reach), _CMP_LE_OQ)) == 0xF) {
+    return;  // the usual case
+  }
+  const Lanes diff = to_lanes(d[0], d[1], d[2]);
+  correct_attachments(p, to_lanes(r[0], r[1], r[2]), diff.x, diff.y, diff.z, length2, reach, worst);
+}
+
+// a group of four consecutive rings p and the attachments f, their pins anywhere: the pins'
+// positions loaded one by one (x y, then z) and transposed into lanes
+__attribute__((target("avx2"), always_inline)) inline void solve_attachment_group(
+    double* x, double* p, const PinAttachment* f, __m256d reach, __m256d& worst) {
   const Lanes rings = load_rings(p);
-  // the four pins, x y z (and a zero) each, transposed into lanes
   const __m256d pin0 = load_ring(x, f[0].pin), pin1 = load_ring(x, f[1].pin);
   const __m256d pin2 = load_ring(x, f[2].pin), pin3 = load_ring(x, f[3].pin);
   const __m256d xz01 = _mm256_unpacklo_pd(pin0, pin1), y01 = _mm256_unpackhi_pd(pin0, pin1);
@@ -324,19 +344,31 @@ __attribute__((target("avx2"))) void solve_attachment_run(double* x, const PinAt
   correct_attachments(p, rings, dx, dy, dz, length2, reach, worst);
 }
 
-__attribute__((target("avx2"))) double sweep_attachments_avx2(double* x, const PinAttachment* list,
-                                                              int begin, int end) {
+__attribute__((target("avx2"))) double sweep_attachment_blocks_avx2(double* x,
+                                                                    const PinAttachment* list,
+                                                                    const double* reach,
+                                                                    const AttachmentBlock* blocks,
+                                                                    int count) {
   __m256d lanes_worst = _mm256_setzero_pd();  // m
   double worst = 0.0;                         // m
-  int k = begin;
-  while (k < end) {
-    // a list holds a ring once and is sorted by ring: four items three rings apart are a run
-    if (k + 4 <= end && list[k + 3].ring == list[k].ring + 3) {
-      solve_attachment_run(x, list + k, lanes_worst);
-      k += 4;
+  for (int k = 0; k < count; ++k) {
+    const AttachmentBlock& block = blocks[k];
+    const PinAttachment* const f = list + block.item;
+    if (block.groups == 0) {
+      worst = std::max(worst, sweep_attachment(x, *f));
+      continue;
+    }
+    double* const p = x + 3 * static_cast<std::ptrdiff_t>(f->ring);
+    const double* const r = reach + block.item;
+    if (block.pin_run) {
+      const double* const q = x + 3 * static_cast<std::ptrdiff_t>(f->pin);
+      for (int g = 0; g < block.groups; ++g) {
+        solve_attachment_pin_run(p + 12 * g, q + 12 * g, _mm256_loadu_pd(r + 4 * g), lanes_worst);
+      }
     } else {
-      worst = std::max(worst, sweep_attachment(x, list[k]));
-      ++k;
+      for (int g = 0; g < block.groups; ++g) {
+        solve_attachment_group(x, p + 12 * g, f + 4 * g, _mm256_loadu_pd(r + 4 * g), lanes_worst);
+      }
     }
   }
   alignas(32) double lane[4];
@@ -363,12 +395,21 @@ double sweep_pair_blocks(double* x, const double* w, const EdgeConstraint* pairs
   return worst;
 }
 
-double sweep_attachments(double* x, const PinAttachment* list, int begin, int end) {
+double sweep_attachment_blocks(double* x, const PinAttachment* list, const double* reach,
+                               const AttachmentBlock* blocks, int count) {
 #if defined(CHAINMAIL_AVX2_SWEEPS)
-  if (vector_sweeps_available()) return sweep_attachments_avx2(x, list, begin, end);
+  if (vector_sweeps_available()) {
+    return sweep_attachment_blocks_avx2(x, list, reach, blocks, count);
+  }
 #endif
+  (void)reach;
+  // without AVX2: each block's attachments one by one (consecutive in the list)
   double worst = 0.0;  // m
-  for (int k = begin; k < end; ++k) worst = std::max(worst, sweep_attachment(x, list[k]));
+  for (int k = 0; k < count; ++k) {
+    for (int i = 0; i < blocks[k].items(); ++i) {
+      worst = std::max(worst, sweep_attachment(x, list[blocks[k].item + i]));
+    }
+  }
   return worst;
 }
 

@@ -34,9 +34,15 @@ std::vector<PairBlock> make_pair_blocks(const EdgeConstraint* pairs, int begin, 
 double sweep_pair_blocks(double* x, const double* w, const EdgeConstraint* pairs,
                          const PairBlock* blocks, int count);
 
-// one sweep over attachments [begin, end) of one list (a ring at most once, sorted by ring): four
-// consecutive rings at once in AVX2 lanes where vector_sweeps_available(); the largest violation
-// met, m (as the scalar sweep's)
-double sweep_attachments(double* x, const PinAttachment* list, int begin, int end);
+// attachments [begin, end) of one list (a ring at most once, sorted by ring) as blocks, in order:
+// four attachments of consecutive rings make a group, and groups that continue each other (in
+// rings, and in pins where their pins are consecutive) one block; the others are alone
+std::vector<AttachmentBlock> make_attachment_blocks(const PinAttachment* list, int begin, int end);
+
+// one sweep over blocks [0, count) of `list`, whose max_distance `reach` also holds in the list's
+// order: each group's four in AVX2 lanes where vector_sweeps_available(), else one by one; the
+// largest violation met, m (as the scalar sweep's)
+double sweep_attachment_blocks(double* x, const PinAttachment* list, const double* reach,
+                               const AttachmentBlock* blocks, int count);
 
 }  // namespace chainmail

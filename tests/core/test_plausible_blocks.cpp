@@ -153,18 +153,19 @@ TEST(PlausibleBlocks, BlocksGiveTheScalarSweepsBits) {
 }
 
 TEST(PlausibleBlocks, AttachmentRunsGiveTheScalarSweepsBits) {
-  // rings 8..39 attached to pins 0..7 (some runs broken by a missing ring), reaches that leave
+  // rings 8..39 attached to pins 0..15 (some runs broken by a missing ring), reaches that leave
   // some rings inside and some out, and a NaN ring: the same bits and violation. Every other
   // trial the runs hang from four consecutive pins (rings along a pinned edge), the others from
   // scattered ones: the two ways a run loads its pins
   constexpr int kRings = 40;
   std::mt19937 random(11);
   std::uniform_real_distribution<double> coordinate(-1.0, 1.0), reach(0.2, 1.5);
+  int long_blocks[2] = {0, 0};  // blocks of two groups or more: scattered pins, consecutive pins
   for (int trial = 0; trial < 200; ++trial) {
     std::vector<PinAttachment> list;
     for (int ring = 8; ring < kRings; ++ring) {
       if (ring % 11 == 0) continue;
-      list.push_back({ring, trial % 2 == 0 ? ring % 8 : ring * 5 % 8, reach(random)});
+      list.push_back({ring, trial % 2 == 0 ? ring % 16 : ring * 5 % 8, reach(random)});
     }
     std::vector<double> scalar(3 * kRings);
     for (double& v : scalar) v = coordinate(random);
@@ -174,11 +175,46 @@ TEST(PlausibleBlocks, AttachmentRunsGiveTheScalarSweepsBits) {
     for (const PinAttachment& a : list) {
       scalar_worst = std::max(scalar_worst, sweep_attachment(scalar.data(), a));
     }
+    const std::vector<AttachmentBlock> blocks =
+        make_attachment_blocks(list.data(), 0, static_cast<int>(list.size()));
+    for (const AttachmentBlock& block : blocks) long_blocks[block.pin_run] += block.groups >= 2;
+    std::vector<double> reaches;
+    for (const PinAttachment& a : list) reaches.push_back(a.max_distance);
     const double blocked_worst =
-        sweep_attachments(blocked.data(), list.data(), 0, static_cast<int>(list.size()));
+        sweep_attachment_blocks(blocked.data(), list.data(), reaches.data(), blocks.data(),
+                                static_cast<int>(blocks.size()));
     ASSERT_TRUE(same_bits(scalar, blocked)) << "trial " << trial;
     ASSERT_EQ(scalar_worst, blocked_worst) << "trial " << trial;
   }
+  EXPECT_GT(long_blocks[0], 0);
+  EXPECT_GT(long_blocks[1], 0);
+}
+
+TEST(PlausibleBlocks, AttachmentsOfConsecutiveRingsMakeGroupsAndBlocks) {
+  // rings 10..21 from pins 0..11 (three groups, one block), rings 22..29 from scattered pins (two
+  // groups, one block), ring 31 alone (30 is missing, so 31, 33, 34, 35 are not consecutive),
+  // rings 33..36 from pins 12..15 (a group of consecutive pins, not after the first block)
+  std::vector<PinAttachment> list;
+  for (int ring = 10; ring < 22; ++ring) list.push_back({ring, ring - 10, 1.0});
+  for (int ring = 22; ring < 30; ++ring) list.push_back({ring, ring * 5 % 8, 1.0});
+  list.push_back({31, 0, 1.0});
+  for (int ring = 33; ring < 37; ++ring) list.push_back({ring, ring - 21, 1.0});
+  const std::vector<AttachmentBlock> blocks =
+      make_attachment_blocks(list.data(), 0, static_cast<int>(list.size()));
+  ASSERT_EQ(blocks.size(), 4u);
+  EXPECT_EQ(blocks[0].groups, 3);
+  EXPECT_TRUE(blocks[0].pin_run);
+  EXPECT_EQ(blocks[1].groups, 2);
+  EXPECT_FALSE(blocks[1].pin_run);
+  EXPECT_EQ(blocks[2].groups, 0);
+  EXPECT_EQ(blocks[3].groups, 1);
+  EXPECT_TRUE(blocks[3].pin_run);
+  int next = 0;
+  for (const AttachmentBlock& block : blocks) {
+    EXPECT_EQ(block.item, next);
+    next += block.items();
+  }
+  EXPECT_EQ(next, static_cast<int>(list.size()));
 }
 
 }  // namespace
