@@ -37,6 +37,7 @@ void for_ring_ranges(int n, int threads, Pass&& pass) {
 void PlausibleSim::reset(const Scene& scene, const Weave& weave,
                          const PlausibleSettings& settings) {
   weave_ = weave;
+  build_grid_keys();
   band_split_.clear();  // the threads' split of the bands starts even
   band_busy_.clear();
   const int n = weave.size();
@@ -271,10 +272,7 @@ void PlausibleSim::refresh_contact_candidates(const RingMoves* measured) {
     const int begin = static_cast<int>(static_cast<long long>(walk) * part / parts);
     const int end = static_cast<int>(static_cast<long long>(walk) * (part + 1) / parts);
     hash_.for_each_pair_in(state_.position, radius, begin, end, [&](int i, int j) {
-      const auto& nb = weave_.neighbours[i];
-      if (nb[0] == j || nb[1] == j || nb[2] == j || nb[3] == j) return;  // linked: constraints
-      if (is_diagonal(i, j)) return;  // sharing two neighbours: a minimum distance of its own
-      found.push_back({i, j});
+      if (!constrained_pair(i, j)) found.push_back({i, j});
     });
   }
   state_.contact_candidates.clear();

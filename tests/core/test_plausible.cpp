@@ -314,6 +314,51 @@ TEST(Plausible, ContactCandidatesHoldEveryPairInRange) {
   EXPECT_LT(sim.state().contact_rebuilds, steps / 2);
 }
 
+TEST(Plausible, ContactListIsTheSameFromThePackedGridAsFromTheNeighbourLists) {
+  // the fold over a sphere with and without the diagonal bounds: once with the weave as made (the
+  // pair walk reads the packed grid), once with its rows numbered from 70000 (past 16 bits: the
+  // walk reads the neighbour lists and the grid). The same candidates at every step, in the same
+  // order, and the same final state
+  const Scene scene = scene_from_json(
+      json{{"name", "fold"},
+           {"weave",
+            {{"type", "4in1"},
+             {"rows", 12},
+             {"cols", 12},
+             {"plane", "xz"},
+             {"center", {0, 0.06, 0}}}},
+           {"colliders",
+            json::array({{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 0.02}}})},
+           {"duration", 1.0}},
+      "test");
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  Weave shifted = weave;
+  for (auto& g : shifted.grid) g[0] += 70000;  // even: the rows keep their parity
+  for (const bool limits : {true, false}) {
+    PlausibleSettings settings;
+    settings.compression_limits = limits;
+    PlausibleSim packed, listed;
+    packed.reset(scene, weave, settings);
+    listed.reset(scene, shifted, settings);
+    ASSERT_TRUE(packed.packed_grid());
+    ASSERT_FALSE(listed.packed_grid());
+    long long candidates = 0;
+    for (int s = 0; s < 200; ++s) {
+      packed.step(0.004);
+      listed.step(0.004);
+      const auto& a = packed.state().contact_candidates;
+      const auto& b = listed.state().contact_candidates;
+      ASSERT_EQ(a.size(), b.size()) << "step " << s;
+      for (size_t k = 0; k < a.size(); ++k) {
+        ASSERT_TRUE(a[k].a == b[k].a && a[k].b == b[k].b) << "step " << s << " pair " << k;
+      }
+      candidates += static_cast<long long>(a.size());
+    }
+    EXPECT_GT(candidates, 0);
+    EXPECT_TRUE(packed.state().position == listed.state().position) << limits;
+  }
+}
+
 TEST(Plausible, FallingSheetKeepsItsContactCandidates) {
   // a sheet dropped flat, nothing pinned: every ring falls alike, so no two rings close in and
   // the candidate list built at the start holds, however far the sheet falls (a rebuild on each
