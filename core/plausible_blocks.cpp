@@ -285,30 +285,26 @@ __attribute__((target("avx2"), always_inline)) inline __m256d load_ring(const do
   return _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p)), _mm_load_sd(p + 2), 1);
 }
 
-// the attachments' test and correction from the rings' and their differences' lanes
-__attribute__((target("avx2"), always_inline)) inline void correct_attachments(
-    double* p, Lanes rings, __m256d dx, __m256d dy, __m256d dz, __m256d length2, __m256d reach,
-    __m256d& worst) {
+// the attachments' test from the squared lengths on: whether any lane moves, and if so each
+// lane's share of the difference vector (corr = scale d) where `active`
+__attribute__((target("avx2"), always_inline)) inline bool attachment_scale(
+    __m256d length2, __m256d reach, __m256d& worst, __m256d& active, __m256d& scale) {
   const __m256d within = _mm256_cmp_pd(length2, _mm256_mul_pd(reach, reach), _CMP_LE_OQ);
-  if (_mm256_movemask_pd(within) == 0xF) return;  // the usual case
+  if (_mm256_movemask_pd(within) == 0xF) return false;  // the usual case
   const __m256d length = _mm256_sqrt_pd(length2);
   const __m256d violation = _mm256_sub_pd(length, reach);
   // moved where the violation is positive (not on a NaN, as in the scalar sweep)
-  const __m256d active =
-      _mm256_andnot_pd(within, _mm256_cmp_pd(violation, _mm256_setzero_pd(), _CMP_GT_OQ));
-  if (_mm256_movemask_pd(active) == 0) return;
-  const __m256d scale = _mm256_div_pd(_mm256_sub_pd(reach, length), length);
-  rings.x = _mm256_blendv_pd(rings.x, _mm256_add_pd(rings.x, _mm256_mul_pd(scale, dx)), active);
-  rings.y = _mm256_blendv_pd(rings.y, _mm256_add_pd(rings.y, _mm256_mul_pd(scale, dy)), active);
-  rings.z = _mm256_blendv_pd(rings.z, _mm256_add_pd(rings.z, _mm256_mul_pd(scale, dz)), active);
-  store_rings(p, rings);
+  active = _mm256_andnot_pd(within, _mm256_cmp_pd(violation, _mm256_setzero_pd(), _CMP_GT_OQ));
+  if (_mm256_movemask_pd(active) == 0) return false;
+  scale = _mm256_div_pd(_mm256_sub_pd(reach, length), length);
   worst = _mm256_max_pd(_mm256_and_pd(violation, active), worst);
+  return true;
 }
 
 // a group of four consecutive rings p hanging from four consecutive pins q: rings and pins hold
 // their coordinates in the same order, so the differences and their squares are taken as the
 // array holds them and only the squares turned into lanes for the test (the same values as in
-// lanes)
+// lanes); the corrections go back the same way (each lane's scale over its ring's coordinates)
 __attribute__((target("avx2"), always_inline)) inline void solve_attachment_pin_run(
     double* p, const double* q, __m256d reach, __m256d& worst) {
   __m256d r[3], d[3];
@@ -320,11 +316,16 @@ __attribute__((target("avx2"), always_inline)) inline void solve_attachment_pin_
       to_lanes(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1]), _mm256_mul_pd(d[2], d[2]));
   // (dx dx + dy dy) + dz dz: squaredNorm's order
   const __m256d length2 = _mm256_add_pd(_mm256_add_pd(square.x, square.y), square.z);
-  if (_mm256_movemask_pd(_mm256_cmp_pd(length2, _mm256_mul_pd(reach, reach), _CMP_LE_OQ)) == 0xF) {
-    return;  // the usual case
+  __m256d active, scale;
+  if (!attachment_scale(length2, reach, worst, active, scale)) return;
+  __m256d spread_active[3], spread_scale[3];
+  spread_lanes(active, spread_active);
+  spread_lanes(scale, spread_scale);
+  for (int k = 0; k < 3; ++k) {
+    _mm256_storeu_pd(
+        p + 4 * k, _mm256_blendv_pd(r[k], _mm256_add_pd(r[k], _mm256_mul_pd(spread_scale[k], d[k])),
+                                    spread_active[k]));
   }
-  const Lanes diff = to_lanes(d[0], d[1], d[2]);
-  correct_attachments(p, to_lanes(r[0], r[1], r[2]), diff.x, diff.y, diff.z, length2, reach, worst);
 }
 
 // a group of four consecutive rings p and the attachments f, their pins anywhere: the pins'
@@ -341,7 +342,13 @@ __attribute__((target("avx2"), always_inline)) inline void solve_attachment_grou
   const __m256d dz = _mm256_sub_pd(rings.z, _mm256_permute2f128_pd(xz01, xz23, 0x31));
   const __m256d length2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
                                         _mm256_mul_pd(dz, dz));
-  correct_attachments(p, rings, dx, dy, dz, length2, reach, worst);
+  __m256d active, scale;
+  if (!attachment_scale(length2, reach, worst, active, scale)) return;
+  Lanes moved = rings;
+  moved.x = _mm256_blendv_pd(rings.x, _mm256_add_pd(rings.x, _mm256_mul_pd(scale, dx)), active);
+  moved.y = _mm256_blendv_pd(rings.y, _mm256_add_pd(rings.y, _mm256_mul_pd(scale, dy)), active);
+  moved.z = _mm256_blendv_pd(rings.z, _mm256_add_pd(rings.z, _mm256_mul_pd(scale, dz)), active);
+  store_rings(p, moved);
 }
 
 __attribute__((target("avx2"))) double sweep_attachment_blocks_avx2(double* x,
