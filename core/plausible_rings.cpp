@@ -160,37 +160,35 @@ __attribute__((target("avx2"))) void velocities_avx2(const RingArrays& r, double
 }
 #endif
 
-}  // namespace
-
-RingMoves predict_rings(const RingArrays& rings, const Vec3& fall, double h, int begin, int end,
-                        bool vector, const double* anchor) {
+// the prediction, after the velocity update where velocities_first: in lanes where the machine
+// has them, else ring by ring (each ring's velocity depends on its own position alone, so the
+// scalar passes may go one after the other over the range)
+template <bool velocities_first>
+RingMoves predict(const RingArrays& rings, const Vec3& fall, double h, int begin, int end,
+                  bool vector, const double* anchor) {
   RingMoves moves;
 #if defined(CHAINMAIL_AVX2_SWEEPS)
   if (vector && vector_sweeps_available()) {
-    predict_avx2<false>(rings, fall, h, begin, end, anchor, moves);
+    predict_avx2<velocities_first>(rings, fall, h, begin, end, anchor, moves);
     return moves;
   }
 #endif
   (void)vector;
+  if constexpr (velocities_first) velocities_scalar(rings, h, begin, end);
   predict_scalar(rings, fall, h, begin, end, anchor, moves);
   return moves;
 }
 
+}  // namespace
+
+RingMoves predict_rings(const RingArrays& rings, const Vec3& fall, double h, int begin, int end,
+                        bool vector, const double* anchor) {
+  return predict<false>(rings, fall, h, begin, end, vector, anchor);
+}
+
 RingMoves update_velocities_and_predict(const RingArrays& rings, const Vec3& fall, double h,
                                         int begin, int end, bool vector, const double* anchor) {
-  RingMoves moves;
-#if defined(CHAINMAIL_AVX2_SWEEPS)
-  if (vector && vector_sweeps_available()) {
-    predict_avx2<true>(rings, fall, h, begin, end, anchor, moves);
-    return moves;
-  }
-#endif
-  (void)vector;
-  // ring by ring as the vector pass goes four at a time (each ring's velocity depends on its own
-  // position alone, so the order of the two passes over a range changes nothing)
-  velocities_scalar(rings, h, begin, end);
-  predict_scalar(rings, fall, h, begin, end, anchor, moves);
-  return moves;
+  return predict<true>(rings, fall, h, begin, end, vector, anchor);
 }
 
 void update_ring_velocities(const RingArrays& rings, double h, int begin, int end, bool vector) {

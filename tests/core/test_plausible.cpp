@@ -266,11 +266,9 @@ TEST(Orientation, FittedSwivelClearsNeighboursWhereAOverCDoesNot) {
   }
 }
 
-TEST(Plausible, ContactCandidatesHoldEveryPairInRange) {
-  // a sheet folding over a small sphere, its sides folding in under it: at every step each
-  // non-neighbour pair closer than the repulsion range must be in the reused candidate list, and
-  // the list is rebuilt far less often than every step
-  const Scene scene = scene_from_json(
+// a 12 x 12 sheet above a small sphere, its sides folding in under it as it drapes
+Scene fold_over_sphere() {
+  return scene_from_json(
       json{{"name", "fold"},
            {"weave",
             {{"type", "4in1"},
@@ -282,6 +280,13 @@ TEST(Plausible, ContactCandidatesHoldEveryPairInRange) {
             json::array({{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 0.02}}})},
            {"duration", 1.0}},
       "test");
+}
+
+TEST(Plausible, ContactCandidatesHoldEveryPairInRange) {
+  // a sheet folding over a small sphere, its sides folding in under it: at every step each
+  // non-neighbour pair closer than the repulsion range must be in the reused candidate list, and
+  // the list is rebuilt far less often than every step
+  const Scene scene = fold_over_sphere();
   const Weave weave = make_weave(scene.weave, scene.ring);
   // the paper's rule: the weave's compression limits would hold the sides apart, out of range
   PlausibleSettings settings;
@@ -319,18 +324,7 @@ TEST(Plausible, ContactListIsTheSameFromThePackedGridAsFromTheNeighbourLists) {
   // pair walk reads the packed grid), once with its rows numbered from 70000 (past 16 bits: the
   // walk reads the neighbour lists and the grid). The same candidates at every step, in the same
   // order, and the same final state
-  const Scene scene = scene_from_json(
-      json{{"name", "fold"},
-           {"weave",
-            {{"type", "4in1"},
-             {"rows", 12},
-             {"cols", 12},
-             {"plane", "xz"},
-             {"center", {0, 0.06, 0}}}},
-           {"colliders",
-            json::array({{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 0.02}}})},
-           {"duration", 1.0}},
-      "test");
+  const Scene scene = fold_over_sphere();
   const Weave weave = make_weave(scene.weave, scene.ring);
   Weave shifted = weave;
   for (auto& g : shifted.grid) g[0] += 70000;  // even: the rows keep their parity
