@@ -187,6 +187,27 @@ __attribute__((target("avx2"), always_inline)) inline void spread_lanes(__m256d 
   out[2] = _mm256_permute4x64_pd(lanes, 0xFE);  // 2 3 3 3
 }
 
+// the squared lengths, in lanes, of four differences held in the array's order
+__attribute__((target("avx2"), always_inline)) inline __m256d squared_lengths(const __m256d d[3]) {
+  const Lanes square =
+      to_lanes(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1]), _mm256_mul_pd(d[2], d[2]));
+  // (dx dx + dy dy) + dz dz: squaredNorm's order
+  return _mm256_add_pd(_mm256_add_pd(square.x, square.y), square.z);
+}
+
+// four rings r (in the array's order, at p) moved by each lane's scale of its difference d where
+// `active`, stored back
+__attribute__((target("avx2"), always_inline)) inline void store_moved(
+    double* p, const __m256d r[3], const __m256d d[3], __m256d scale, const __m256d active[3]) {
+  __m256d spread[3];
+  spread_lanes(scale, spread);
+  for (int k = 0; k < 3; ++k) {
+    _mm256_storeu_pd(
+        p + 4 * k,
+        _mm256_blendv_pd(r[k], _mm256_add_pd(r[k], _mm256_mul_pd(spread[k], d[k])), active[k]));
+  }
+}
+
 __attribute__((target("avx2"), always_inline)) inline void solve_run(double* x, const double* w,
                                                                      int a, int b,
                                                                      const LaneBounds& bounds,
@@ -199,27 +220,16 @@ __attribute__((target("avx2"), always_inline)) inline void solve_run(double* x, 
     r1[k] = _mm256_loadu_pd(p1 + 4 * k);
     d[k] = _mm256_sub_pd(r1[k], r0[k]);
   }
-  const Lanes square =
-      to_lanes(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1]), _mm256_mul_pd(d[2], d[2]));
-  // (dx dx + dy dy) + dz dz: squaredNorm's order
-  const __m256d length2 = _mm256_add_pd(_mm256_add_pd(square.x, square.y), square.z);
+  const __m256d length2 = squared_lengths(d);
   LaneCorrection c;
   if (!correct_lanes(length2, _mm256_loadu_pd(w + a), _mm256_loadu_pd(w + b), bounds.min_length,
                      bounds.max_length, worst, c)) {
     return;
   }
-  __m256d active[3], s0[3], s1[3];
+  __m256d active[3];
   spread_lanes(c.active, active);
-  spread_lanes(c.s0, s0);
-  spread_lanes(c.s1, s1);
-  for (int k = 0; k < 3; ++k) {
-    _mm256_storeu_pd(
-        p0 + 4 * k,
-        _mm256_blendv_pd(r0[k], _mm256_add_pd(r0[k], _mm256_mul_pd(s0[k], d[k])), active[k]));
-    _mm256_storeu_pd(
-        p1 + 4 * k,
-        _mm256_blendv_pd(r1[k], _mm256_add_pd(r1[k], _mm256_mul_pd(s1[k], d[k])), active[k]));
-  }
+  store_moved(p0, r0, d, c.s0, active);
+  store_moved(p1, r1, d, c.s1, active);
 }
 
 // pairs (a + 2 i, a + 2 i + 1): rings a .. a + 7, the even ones one side, the odd the other (the
@@ -312,20 +322,11 @@ __attribute__((target("avx2"), always_inline)) inline void solve_attachment_pin_
     r[k] = _mm256_loadu_pd(p + 4 * k);
     d[k] = _mm256_sub_pd(r[k], _mm256_loadu_pd(q + 4 * k));
   }
-  const Lanes square =
-      to_lanes(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1]), _mm256_mul_pd(d[2], d[2]));
-  // (dx dx + dy dy) + dz dz: squaredNorm's order
-  const __m256d length2 = _mm256_add_pd(_mm256_add_pd(square.x, square.y), square.z);
   __m256d active, scale;
-  if (!attachment_scale(length2, reach, worst, active, scale)) return;
-  __m256d spread_active[3], spread_scale[3];
+  if (!attachment_scale(squared_lengths(d), reach, worst, active, scale)) return;
+  __m256d spread_active[3];
   spread_lanes(active, spread_active);
-  spread_lanes(scale, spread_scale);
-  for (int k = 0; k < 3; ++k) {
-    _mm256_storeu_pd(
-        p + 4 * k, _mm256_blendv_pd(r[k], _mm256_add_pd(r[k], _mm256_mul_pd(spread_scale[k], d[k])),
-                                    spread_active[k]));
-  }
+  store_moved(p, r, d, scale, spread_active);
 }
 
 // a group of four consecutive rings p and the attachments f, their pins anywhere: the pins'
@@ -344,11 +345,10 @@ __attribute__((target("avx2"), always_inline)) inline void solve_attachment_grou
                                         _mm256_mul_pd(dz, dz));
   __m256d active, scale;
   if (!attachment_scale(length2, reach, worst, active, scale)) return;
-  Lanes moved = rings;
-  moved.x = _mm256_blendv_pd(rings.x, _mm256_add_pd(rings.x, _mm256_mul_pd(scale, dx)), active);
-  moved.y = _mm256_blendv_pd(rings.y, _mm256_add_pd(rings.y, _mm256_mul_pd(scale, dy)), active);
-  moved.z = _mm256_blendv_pd(rings.z, _mm256_add_pd(rings.z, _mm256_mul_pd(scale, dz)), active);
-  store_rings(p, moved);
+  store_rings(
+      p, {_mm256_blendv_pd(rings.x, _mm256_add_pd(rings.x, _mm256_mul_pd(scale, dx)), active),
+          _mm256_blendv_pd(rings.y, _mm256_add_pd(rings.y, _mm256_mul_pd(scale, dy)), active),
+          _mm256_blendv_pd(rings.z, _mm256_add_pd(rings.z, _mm256_mul_pd(scale, dz)), active)});
 }
 
 __attribute__((target("avx2"))) double sweep_attachment_blocks_avx2(double* x,
