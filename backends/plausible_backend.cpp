@@ -49,11 +49,12 @@ const KnobTable<PlausibleSettings>& plausible_knobs() {
               "long-range attachments: no ring farther from its nearest pins than its links "
               "allow (keeps large hanging sheets from stretching)");
     t.integer("substeps", &S::substeps, 0, 10000,
-              "equal substeps per step, the step's sweeps shared among them (0: 1 where the "
-              "Newton steps run, 16 of one sweep each otherwise)");
-    t.integer("newton_max_rings", &S::newton_max_rings, 0, 1000000000,
-              "Newton steps only on scenes with at most this many rings (their direct solve "
-              "grows faster than the ring count)");
+              "equal substeps per step, the step's sweeps shared among them (0: automatic, 4 to "
+              "64 from the stretch the sweeps leave and the rings' speed)");
+    t.number("newton_level", &S::newton_level, 0.0, 1000.0,
+             "Newton steps run where the sweeps leave a violation past this fraction of the way "
+             "from the longest link to the inner diameter (0: wherever they leave more than the "
+             "tolerance)");
     t.number("swivel_extended", &S::swivel_extended, 0.0, 0.5 * std::numbers::pi,
              "swivel angle at full extension, rad (0: the paper's a/c)");
     t.boolean("swivel_fit", &S::swivel_fit,

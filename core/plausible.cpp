@@ -104,8 +104,8 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
         model_.pin_paths.order.empty() ? pin_paths(weave, pinned) : model_.pin_paths;
     model_.attachments = pin_attachments(weave, paths, pinned, max_length);
   }
-  // past the Newton steps' size the threads meet at band edges, not after every colour
-  if (n > settings.newton_max_rings) build_sweep_bands();
+  // the threads meet at band edges, not after every colour
+  build_sweep_bands();
   model_.rigid = rigid_freedom(weave.rest_position, view(model_.inverse_mass));
   model_.colliders = scene.colliders;
   model_.gravity = scene.gravity;
@@ -125,8 +125,18 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   state_.contact_push = Eigen::VectorXd::Zero(n);
   state_.contact_normal = Positions::Zero(3, n);
   state_.contact_friction = Eigen::VectorXd::Zero(n);
-  state_.substeps = kLargeSheetSubsteps;  // where the control runs (controls_substeps)
+  state_.substeps = kMinSubsteps;  // where the control runs (controls_substeps)
+  state_.speed_substeps = 1;
   velocities_pending_ = false;
+  // a layout whose links are longer than the rings allow (a grid spaced at the inner diameter)
+  // is pulled in before the first step, as a ring inside a collider is pushed out: the move makes
+  // no velocity (a substep's correction would, at 1 / h of it)
+  const double tolerance = settings.tolerance * model_.longest_link;  // m
+  if (max_over_extension() * model_.longest_link > tolerance) {
+    solve_together(tolerance, 0.0);
+    state_.previous = state_.position;
+    state_.contact_push.setZero();
+  }
   profile_.clear();
   orient();
 }
@@ -134,6 +144,7 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
 void PlausibleSim::step(double dt) {
   const int substeps = substep_count();
   const double h = dt / substeps;  // s
+  state_.scheduled_residual = 0.0;
   for (int k = 0; k < substeps; ++k) {
     const bool last = k + 1 == substeps;
     substep(h, last ? dt : 0.0, !last);
@@ -146,31 +157,19 @@ void PlausibleSim::step(double dt) {
     orient();
   }
   state_.t += dt;
-  if (controls_substeps()) control_substeps();
-}
-
-bool PlausibleSim::controls_substeps() const {
-  return model_.settings.substeps == 0 &&
-         (model_.settings.newton_steps <= 0 ||
-          state_.position.cols() > model_.settings.newton_max_rings);
+  if (controls_substeps()) control_substeps(dt);
 }
 
 int PlausibleSim::substep_count() const {
   if (model_.settings.substeps > 0) return model_.settings.substeps;
-  // where the Newton steps run, one substep; past their size as many as the stretch control
-  // keeps (at least kLargeSheetSubsteps)
-  return controls_substeps() ? state_.substeps : 1;
+  return std::min(kMaxSubsteps, std::max(state_.substeps, state_.speed_substeps));
 }
 
-double PlausibleSim::stretch_control_level() const {
-  // three quarters of the way from the longest link to a link at the inner diameter (at least
-  // 0.75 % of the longest link)
-  const double inner = model_.ring.inner_diameter();                          // m
-  const double headroom = std::max(inner / model_.longest_link - 1.0, 0.01);  // of the link
-  return 0.75 * headroom;
+double PlausibleSim::headroom() const {
+  return std::max(model_.ring.inner_diameter() / model_.longest_link - 1.0, 0.01);
 }
 
-void PlausibleSim::control_substeps() {
+void PlausibleSim::control_substeps(double dt) {
   // one sweep a substep leaves a stretch that grows with (dt / substeps)^2 and with the rows a
   // sheet hangs by: a 256 x 256 curtain on 16 substeps stretches its links 1.9 % past the longest
   // link at rest and 4.9 % (1.016 ID) as it swings back at 0.6 s. The control reads the largest
@@ -181,13 +180,19 @@ void PlausibleSim::control_substeps() {
   // they leave falls with their square: 36 % less); under half of that, an eighth fewer, down to
   // the fixed count
   const double high = stretch_control_level(), low = 0.5 * high;   // of the longest link
-  const double violation = state_.residual / model_.longest_link;  // of the longest link
+  const double violation = state_.scheduled_residual / model_.longest_link;  // of the longest link
   const int now = state_.substeps;
   if (violation > high) {
     state_.substeps = std::min(kMaxSubsteps, now + std::max(1, now / 4));
   } else if (violation < low) {
-    state_.substeps = std::max(kLargeSheetSubsteps, now - std::max(1, now / 8));
+    state_.substeps = std::max(kMinSubsteps, now - std::max(1, now / 8));
   }
+  // the fastest ring's move over the next step, gravity's gain included, in substeps of at most
+  // kMovePerSubstep inner diameters: a sweep corrects a substep's move only where the move is
+  // small beside the rings (a sheet hitting a ball at 10 m/s tears otherwise)
+  const double speed = std::sqrt(max_speed_squared()) + model_.gravity.norm() * dt;  // m/s
+  const double limit = kMovePerSubstep * model_.ring.inner_diameter();              // m
+  state_.speed_substeps = static_cast<int>(std::min<double>(kMaxSubsteps, std::ceil(speed * dt / limit)));
 }
 
 void PlausibleSim::substep(double h, double damp_dt, bool another_follows) {
@@ -297,6 +302,17 @@ RingMoves PlausibleSim::measure_moves() const {
   RingMoves moves;
   for (const RingMoves& p : part) moves.join(p);
   return moves;
+}
+
+double PlausibleSim::max_speed_squared() const {
+  const int n = static_cast<int>(state_.velocity.cols());
+  std::vector<double> part(loop_threads(threads_, n), 0.0);
+  for_ring_ranges(n, threads_, [&](int range, int begin, int end) {
+    double fastest = 0.0;
+    for (int i = begin; i < end; ++i) fastest = std::max(fastest, state_.velocity.col(i).squaredNorm());
+    part[range] = fastest;
+  });
+  return *std::max_element(part.begin(), part.end());
 }
 
 void PlausibleSim::integrate(double dt, RingMoves* moves) {

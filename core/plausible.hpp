@@ -28,16 +28,22 @@ namespace chainmail {
 struct PlausibleSettings {
   // constraint sweeps (edges, minimum distances, colliders in one Gauss-Seidel sweep) run until
   // the largest violation a sweep meets is below tolerance * the longest link, at most iterations;
-  // then Newton steps on the edges and colliders together (a sparse direct solve each, at most
-  // newton_steps) remove what the sweeps left
-  int iterations = 10;
+  // where the sweeps leave a violation past newton_level (below), Newton steps on the edges and
+  // colliders together (a sparse direct solve each, at most newton_steps) remove it
+  int iterations = 4;
   double tolerance = 1e-3;
   int newton_steps = 30;
+  // the Newton correction runs on a substep whose sweeps left a violation past this fraction of
+  // the way from the longest link to a link at the inner diameter (1: only where a link would
+  // pass the inner diameter; a sheet torn by an impact or a huge step); 0: wherever they left
+  // more than the tolerance (with substeps = 1, the converged solve of every step)
+  double newton_level = 1.0;
   // equal substeps per step, each a full predict-solve-velocity pass with iterations / substeps
   // sweeps (at least one): the same sweeps, but a stretch left by one substep is g (dt/s)^2 small
-  // (Macklin et al. 2019, "Small Steps"). 0: 1 where the Newton steps run; on larger scenes,
-  // whose sweeps alone do not converge, 16 of one sweep each, and up to 64 while the links
-  // stretch toward the inner diameter
+  // (Macklin et al. 2019, "Small Steps"). 0: automatic, from the sheet's state (PlausibleSim::
+  // substep_count): kMinSubsteps while the sweeps converge, more while they leave the links
+  // stretched toward the inner diameter, and enough that no ring moves more than
+  // kMovePerSubstep inner diameters a substep (up to kMaxSubsteps)
   int substeps = 0;
   // the links' largest length from the ring geometry, for the two rings as the model turns them at
   // full extension (exact circle-circle distance); where the geometry gives none (4-in-1 at the
@@ -77,9 +83,6 @@ struct PlausibleSettings {
   // than its links to them allow, projected first in every sweep, so a hanging sheet's stretch
   // does not need O(rows^2) sweeps; a bound real rings never exceed, so it biases nothing
   bool pin_attachments = true;
-  // the Newton steps' sparse direct solve costs about rings^1.5 per step (80 ms at 64x64): on
-  // more rings than this the sweeps and the attachments stand alone
-  int newton_max_rings = 1024;
   // 4-in-1: how close neighbours, rings that share two neighbours (i +- 1, j +- 1) and rings a row
   // and a half apart (i +- 2, j +- 1), (i +- 1, j +- 2) can come, from the ring geometry
   // (core/weave_limits), enforced in the sweeps; off: the paper's rule, neighbours as close as the
@@ -172,8 +175,7 @@ struct PlausibleModel {
   std::vector<EdgeConstraint> diagonals;  // by colour
   Colouring diagonal_colours;
   PinPaths pin_paths;  // 4-in-1 with swivel_from_pins: the rings breadth-first from the pins
-  // past the Newton steps' size: the attachments, edges and diagonals in bands (none: the sweeps
-  // wait for every thread after each colour)
+  // the attachments, edges and diagonals in bands (core/plausible_bands.cpp)
   SweepBands bands;
   std::vector<Collider> colliders;
   Vec3 gravity = Vec3::Zero();  // m/s^2
@@ -206,16 +208,21 @@ struct PlausibleState {
   // left (the last sweep's, or the edges' and colliders' after the Newton steps)
   int sweeps = 0;
   int newton_steps = 0;
-  int substeps = 0;  // automatic substeps past the Newton steps' size: what the next step takes
+  int substeps = 0;  // automatic substeps: what the stretch control gives the next step
+  int speed_substeps = 1;  // automatic substeps: what the rings' speed asks of the next step
+  // m, the largest violation the step's substeps met in their last scheduled sweep (extra sweeps
+  // past iterations not counted): what the stretch control reads
+  double scheduled_residual = 0.0;
   double residual = 0.0;  // m
 };
 
 class PlausibleSim {
  public:
-  // past the Newton steps' size with automatic substeps: at least kLargeSheetSubsteps, more (up to
-  // kMaxSubsteps) while the sweeps leave links stretched toward the inner diameter
-  static constexpr int kLargeSheetSubsteps = 16;
+  // automatic substeps: at least kMinSubsteps, more (up to kMaxSubsteps) while the sweeps leave
+  // links stretched toward the inner diameter or the rings move fast
+  static constexpr int kMinSubsteps = 4;
   static constexpr int kMaxSubsteps = 64;
+  static constexpr double kMovePerSubstep = 0.25;  // inner diameters
 
   void reset(const Scene& scene, const Weave& weave, const PlausibleSettings& settings);
   void step(double dt);
@@ -228,8 +235,7 @@ class PlausibleSim {
   // machine has them (on by default; the same bits either way: off serves to compare)
   void set_vector_sweeps(bool on) { vector_sweeps_ = on; }
   bool vector_sweeps() const { return vector_sweeps_; }
-  // past the Newton steps' size the sweeps go band by band (core/plausible_bands.cpp), or colour by
-  // colour with all threads meeting after each (off: the same bits, for comparison)
+  // the sweeps go band by band (core/plausible_bands.cpp), or colour by colour with all threads meeting after each (off: the same bits, for comparison)
   void set_banded_sweeps(bool on) { banded_sweeps_ = on; }
 
   // whether the contact list's pair walk reads the weave's grid packed (see constrained_pair)
@@ -251,14 +257,19 @@ class PlausibleSim {
   // could have brought a pair it does not hold within range
   void refresh_contact_candidates(const RingMoves* moves = nullptr);
   RingMoves measure_moves() const;
-  // the substeps of the next step (automatic: 1 where the Newton steps run, else the control's)
+  double max_speed_squared() const;  // (m/s)^2, of any ring
+  // the substeps of the next step: the knob's, or the larger of the stretch control's and the
+  // speed's count
   int substep_count() const;
-  // automatic substeps past the Newton steps' size: the last sweep's largest violation above the
-  // control level (of the longest link) adds substeps for the next step, and up to kExtraSweeps
-  // sweeps at once to the substep that met it
-  bool controls_substeps() const;
-  double stretch_control_level() const;
-  void control_substeps();
+  // automatic substeps: the last sweep's largest violation above the control level (of the
+  // longest link) adds substeps for the next step, and up to kExtraSweeps sweeps at once to the
+  // substep that met it; the fastest ring's move in the next step sets a floor
+  bool controls_substeps() const { return model_.settings.substeps == 0; }
+  // the way from the longest link to a link at the inner diameter, of the longest link (at least
+  // 1 %); the control acts at three quarters of it
+  double headroom() const;
+  double stretch_control_level() const { return 0.75 * headroom(); }
+  void control_substeps(double dt);
   static constexpr int kExtraSweeps = 8;
   // one predict-solve-update pass of h seconds; damps as for damp_dt seconds (0: not at all).
   // another_follows: a substep of the same h comes next in this step (the velocity update may
@@ -270,8 +281,10 @@ class PlausibleSim {
   void integrate(double dt, RingMoves* moves = nullptr);
   void solve_positions();
   bool solves_contacts() const;
-  // Newton steps on the edges and colliders until the largest violation is below tolerance, m
-  void solve_together(double tolerance);
+  // Newton steps on the edges and colliders until the largest violation is below tolerance, m;
+  // none where it is below trigger to begin with
+  void solve_together(double tolerance, double trigger);
+  double newton_trigger() const;  // m, the violation past which the Newton steps run
   // rows of the constraints violated or within `near` of their bound; the largest violation, m
   double edge_rows(double near, std::vector<ProjectionRow>& rows) const;
   double contact_rows(double near, std::vector<ProjectionRow>& rows) const;

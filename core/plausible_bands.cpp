@@ -1,5 +1,5 @@
-// The plausible model's sweeps on sheets past the Newton steps' size, with the threads meeting at
-// band edges instead of after every colour. A coloured sweep runs a dozen or more stages (the
+// The plausible model's sweeps, with the threads meeting at band edges instead of after every
+// colour. A coloured sweep runs a dozen or more stages (the
 // attachment lists, the edge colours, the diagonal colours), and a team that waits for all its
 // threads after each stage waits for the slowest one a dozen times a sweep, 16 sweeps a step.
 // Here each thread takes a run of bands through all stages and waits only for the two bands at
@@ -26,6 +26,9 @@ namespace {
 // the edge bands
 constexpr int kBands = 16;
 constexpr int kMinBands = 4;
+// rings a thread's run of bands is worth: on fewer, a sweep is over in microseconds and a thread
+// waiting on another costs more than it saves (on a busy machine, far more)
+constexpr int kRingsPerThread = 2048;
 
 int band_of(const std::vector<int>& first_ring, int ring) {
   return static_cast<int>(std::upper_bound(first_ring.begin(), first_ring.end(), ring) -
@@ -145,7 +148,10 @@ double PlausibleSim::solve_bands() {
   const int count = bands.bands();
   const int stages = static_cast<int>(bands.stages.size());
   std::vector<BandProgress> progress(count);
-  const int team = parallel_loops_available() ? std::clamp(threads_, 1, count / 2) : 1;
+  const int rings = static_cast<int>(state_.position.cols());
+  const int team = parallel_loops_available()
+                       ? std::clamp(std::min(threads_, rings / kRingsPerThread), 1, count / 2)
+                       : 1;
   std::vector<double> busy(team, 0.0);  // s, each thread's time solving (not waiting)
   int members = 1;
   double worst = 0.0;  // m

@@ -66,20 +66,36 @@ void PlausibleSim::solve_positions() {
     if (colliders) residual = std::max(residual, collide());
     ++state_.sweeps;
     state_.residual = residual;
+    // what the scheduled sweeps left, before any extra ones: the stretch control's signal
+    if (state_.sweeps <= iterations) {
+      state_.scheduled_residual = std::max(state_.scheduled_residual, residual);
+    }
     if (residual <= tolerance) return;
     if (state_.sweeps >= iterations && residual <= control) break;
   }
-  // what the sweeps leave (the slow, sheet-wide part: a long hanging chain, a sheet over a table
-  // edge), Newton steps on the edges and colliders together remove
-  const bool small = state_.position.cols() <= model_.settings.newton_max_rings;
-  if (model_.settings.newton_steps > 0 && small) solve_together(tolerance);
+  // what the sweeps leave past the Newton level (a sheet torn by an impact or a huge step: the
+  // sweeps move a violation a few rings a sweep), Newton steps on the edges and colliders
+  // together remove; the state decides, not the ring count
+  const double trigger = newton_trigger();  // m
+  if (model_.settings.newton_steps > 0 && state_.residual > trigger) {
+    solve_together(tolerance, trigger);
+  }
+}
+
+double PlausibleSim::newton_trigger() const {
+  // newton_level of the way from the longest link to a link at the inner diameter: at 1, a link
+  // would otherwise end the substep longer than real rings allow (a chain's links have only the
+  // tolerance between them and the inner diameter)
+  const double tolerance = model_.settings.tolerance * model_.longest_link;  // m
+  const double room = std::max(model_.ring.inner_diameter() - model_.longest_link, tolerance);
+  return std::max(tolerance, model_.settings.newton_level * room);
 }
 
 bool PlausibleSim::solves_contacts() const {
   return model_.self_contact && !model_.settings.repulsion_spring && state_.position.cols() > 1;
 }
 
-void PlausibleSim::solve_together(double tolerance) {
+void PlausibleSim::solve_together(double tolerance, double trigger) {
   // the minimum distances between non-neighbours stay with the sweeps: where a sheet is packed
   // tight they contradict the edges, and a system holding both has no solution
   const bool colliders = !model_.colliders.empty();
@@ -97,6 +113,9 @@ void PlausibleSim::solve_together(double tolerance) {
       residual = std::max(residual, collider_rows(tolerance, rows));
     }
     state_.residual = residual;
+    // the sweeps' residual counts every kind of violation: the edges and colliders alone may
+    // stand within the level
+    if (state_.newton_steps == 0 && residual <= trigger) break;
     if (residual <= tolerance || state_.newton_steps >= model_.settings.newton_steps) break;
     ++state_.newton_steps;
     auto scope = profile_.scope("newton");
@@ -236,6 +255,8 @@ double PlausibleSim::collide() {
   auto scope = profile_.scope("colliders");
   double worst = 0.0;  // m
   const int n = static_cast<int>(state_.position.cols());
+  const double reach = std::max(model_.settings.contact_margin,
+                                model_.ring.wire_radius + model_.ring.centre_radius);  // m
   // each ring against every collider: rings are independent
   const int team = loop_threads(threads_, n);
 #pragma omp parallel for schedule(static) num_threads(team) reduction(max : worst)
@@ -244,6 +265,8 @@ double PlausibleSim::collide() {
     for (const Collider& collider : model_.colliders) {
       Vec3 normal;
       const double distance = collider_distance(collider, state_.position.col(i), normal);
+      // no torus reaches farther than its outer radius: most rings end here, before the margin
+      if (distance >= reach) continue;
       const double depth = collider_margin(i, normal) - distance;  // m
       if (depth <= 0.0) continue;
       state_.position.col(i) += depth * normal;

@@ -26,16 +26,14 @@ double PlausibleSim::build_compression_limits() {
   for (const DiagonalPair& pair : knight_pairs(weave_, limits)) {
     model_.diagonals.push_back({pair.a, pair.b, pair.min, pair.max});
   }
-  // past the Newton steps' size the sweeps solve four pairs at once where a colour runs through
-  // consecutive rings (core/plausible_blocks): listed by ring offset, then ring, these pairs
-  // colour into such runs (the links and the pairs above, listed row by row, already do)
-  if (static_cast<int>(weave_.size()) > model_.settings.newton_max_rings) {
-    std::stable_sort(model_.diagonals.begin() + static_cast<std::ptrdiff_t>(first_knight),
-                     model_.diagonals.end(), [](const EdgeConstraint& x, const EdgeConstraint& y) {
-                       const int dx = x.b - x.a, dy = y.b - y.a;
-                       return dx != dy ? dx < dy : std::min(x.a, x.b) < std::min(y.a, y.b);
-                     });
-  }
+  // the sweeps solve four pairs at once where a colour runs through consecutive rings
+  // (core/plausible_blocks): listed by ring offset, then ring, these pairs colour into such runs
+  // (the links and the pairs above, listed row by row, already do)
+  std::stable_sort(model_.diagonals.begin() + static_cast<std::ptrdiff_t>(first_knight),
+                   model_.diagonals.end(), [](const EdgeConstraint& x, const EdgeConstraint& y) {
+                     const int dx = x.b - x.a, dy = y.b - y.a;
+                     return dx != dy ? dx < dy : std::min(x.a, x.b) < std::min(y.a, y.b);
+                   });
   return std::max(paper, limits.link);
 }
 

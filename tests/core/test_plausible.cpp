@@ -101,18 +101,26 @@ TEST(Plausible, FreeFallWithoutConstraintsMatchesHalfGTSquared) {
                                            {"duration", 1.0}},
                                       "test");
   const Weave weave = make_weave(scene.weave, scene.ring);
-  PlausibleSettings settings;
-  settings.damping = 0.0;
-  PlausibleSim sim;
-  sim.reset(scene, weave, settings);
-  const double dt = 0.001, g = 9.81;
-  const double y0 = sim.state().position(1, 0);
-  for (int s = 0; s < 500; ++s) sim.step(dt);
-  const double t = 0.5;
-  const double fallen = y0 - sim.state().position(1, 0);
-  // symplectic Euler: exactly g dt^2 n (n + 1) / 2 = g t^2 / 2 + g t dt / 2
-  EXPECT_NEAR(fallen, 0.5 * g * t * t, 0.5 * g * t * dt + 1e-12);
-  EXPECT_NEAR(fallen, 0.5 * g * t * t + 0.5 * g * t * dt, 1e-9);
+  const double dt = 0.001, g = 9.81, t = 0.5;
+  // one substep a step: symplectic Euler, exactly g dt^2 n (n + 1) / 2 = g t^2 / 2 + g t dt / 2;
+  // automatic substeps: the same with the substep h for dt, within g t h / 2 of g t^2 / 2
+  for (const int substeps : {1, 0}) {
+    PlausibleSettings settings;
+    settings.damping = 0.0;
+    settings.substeps = substeps;
+    PlausibleSim sim;
+    sim.reset(scene, weave, settings);
+    const double y0 = sim.state().position(1, 0);
+    for (int s = 0; s < 500; ++s) sim.step(dt);
+    const double fallen = y0 - sim.state().position(1, 0);
+    if (substeps == 1) {
+      EXPECT_NEAR(fallen, 0.5 * g * t * t + 0.5 * g * t * dt, 1e-9);
+    } else {
+      EXPECT_GE(sim.state().substeps, PlausibleSim::kMinSubsteps);
+      EXPECT_NEAR(fallen, 0.5 * g * t * t, 0.5 * g * t * dt / PlausibleSim::kMinSubsteps + 1e-12);
+      EXPECT_NEAR(fallen, 0.5 * g * t * t, 0.01 * 0.5 * g * t * t);
+    }
+  }
 }
 
 TEST(Plausible, SheetDroppedOnPlaneRestsWithoutSinking) {
@@ -309,7 +317,9 @@ TEST(Plausible, ContactCandidatesHoldEveryPairInRange) {
         const bool diagonal = std::abs(weave.grid[i][0] - weave.grid[j][0]) == 1 &&
                               std::abs(weave.grid[i][1] - weave.grid[j][1]) == 1;
         if (diagonal) continue;
-        if ((p.col(i) - p.col(j)).norm() >= range) continue;
+        // in contact: within a hundredth of the range (the sweeps leave a pressed pair at it,
+        // measured along the direction it had at the start of the step: a little beyond it)
+        if ((p.col(i) - p.col(j)).norm() > 1.01 * range) continue;
         ++close_pairs;
         ASSERT_TRUE(listed.count({i, j})) << "pair " << i << "," << j << " missed at step " << s;
       }
@@ -401,7 +411,7 @@ TEST(Plausible, CurtainHashMatchesTheRecordedOne) {
   sim.frame(frame);
   std::printf("curtain 10x10, 250 steps: hash %016llx\n",
               static_cast<unsigned long long>(frame_hash(frame)));
-  EXPECT_EQ(frame_hash(frame), 0x1879d36a1f70232bull);
+  EXPECT_EQ(frame_hash(frame), 0xeb72998428811574ull);
 }
 
 }  // namespace

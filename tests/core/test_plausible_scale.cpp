@@ -111,7 +111,7 @@ TEST(PlausibleScale, ChainMiddleRingIsHeldByBothEnds) {
 }
 
 TEST(PlausibleScale, LargeHangingSheetKeepsItsLinksWithinTheRings) {
-  // 64 x 64 rings (past the Newton steps' size): released from the layout, the sheet falls until
+  // 64 x 64 rings: released from the layout, the sheet falls until
   // the links go taut. A real link cannot grow past the inner diameter; with the attachments and
   // the sweeps spread over substeps none does, while the same sweeps in one pass let it stretch
   const Scene scene = hanging("4in1", 64, 64);
@@ -152,7 +152,7 @@ TEST(PlausibleScale, ThreadCountDoesNotChangeTheResult) {
 }
 
 TEST(PlausibleScale, BandsHoldEveryConstraintOnceNextToItsBand) {
-  // 48 x 48 rings: past the Newton steps' size, so the sweeps go in bands; each attachment, edge
+  // 48 x 48 rings, the sweeps in bands: each attachment, edge
   // and diagonal is in exactly one stage's band, its rings in that band or the next, and a stage
   // (an attachment list, a colour) moves each ring at most once
   const Scene scene = hanging("4in1", 48, 48);
@@ -215,7 +215,7 @@ TEST(PlausibleScale, BandedSweepsGiveTheColouredSweepsBits) {
 TEST(PlausibleScale, VectorLanesGiveTheScalarBitsOnEveryWeave) {
   // the SIMD blocks and ring passes against one by one: a long chain (its links alternate in
   // adjacent sets), a grid, and a 4-in-1 sheet falling onto a ball (colliders: their push, the
-  // friction after the velocity pass), each past the Newton steps' size and with a ring count
+  // friction after the velocity pass), each with a ring count
   // that leaves a tail of fewer than four rings
   const Scene chain = hanging("chain", 1, 2047);
   const Scene grid = scene_from_json({{"name", "grid"},
