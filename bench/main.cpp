@@ -15,6 +15,7 @@
 #include "bench/harness/info_commands.hpp"
 #include "bench/harness/interrupt.hpp"
 #include "bench/harness/render_command.hpp"
+#include "bench/harness/report.hpp"
 #include "bench/harness/stability.hpp"
 #include "bench/harness/sweep.hpp"
 #include "bench/harness/usage_error.hpp"
@@ -145,6 +146,8 @@ void add_run(CLI::App& app, RunFlags& flags) {
   add_budget(sub, run.budget);
   sub->add_flag("--frames", run.frames, "write frames/<backend>/<NNNNN>.csv");
   sub->add_flag("--render", run.render, "render side-by-side PNG frames into images/");
+  sub->add_flag("--report", run.report,
+                "write index.html: tables, plots, images and the frames in 3D (chainmail report)");
   sub->add_option("--shader", run.shader,
                   "cloth shader for --render: blinn_phong, texture, bump, displacement, mirror")
       ->default_str("texture");
@@ -272,6 +275,14 @@ void add_render(CLI::App& app, RenderFlags& flags) {
   sub->add_flag("--no-images", flags.no_images, "exports only (no GL needed)");
 }
 
+CLI::App* add_report(CLI::App& app, std::string& folder) {
+  CLI::App* sub = app.add_subcommand(
+      "report", "write index.html into a run, sweep, stability or bench folder: tables, plots, "
+                "images and linked 3D views of every backend, viewable offline");
+  sub->add_option("folder", folder, "the folder chainmail wrote")->required();
+  return sub;
+}
+
 // the exit status when parsing ends the program (help, version, a parse error), else nullopt
 std::optional<int> parse(CLI::App& app, int argc, char** argv) {
   try {
@@ -364,6 +375,8 @@ int main(int argc, char** argv) {
   add_info(app, info_flags);
   app.footer(help_footer());
   add_render(app, render_flags);
+  std::string report_folder;
+  const CLI::App* report_app = add_report(app, report_folder);
   if (const std::optional<int> status = parse(app, argc, argv)) return *status;
 
   install_interrupt_handlers();
@@ -378,6 +391,7 @@ int main(int argc, char** argv) {
     if (*info_flags.backends) return backends_command(info_flags.json);
     if (*info_flags.check) return check_command(info_flags.check_command);
     if (*render_flags.app) return render_main(render_flags);
+    if (*report_app) return report_command(report_folder);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "chainmail: %s\n", e.what());
     return kExitBadInput;

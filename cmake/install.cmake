@@ -1,6 +1,6 @@
 # Installation under the GNU install dirs:
 #   bin/chainmail
-#   share/chainmail/{scenes/, shaders/, plot_sweep.py, scene.schema.json}  (read at run time,
+#   share/chainmail/{scenes/, shaders/, report/, plot_sweep.py, scene.schema.json}  (read at run time,
 #                                                        found from the binary's own path)
 #   include/chainmail/{core/, backends/, bench/harness/scene_file.hpp, testing/}
 #   lib/libchainmail_*.a and lib/cmake/chainmail/ (find_package(chainmail))
@@ -38,7 +38,10 @@ install(FILES tests/backends/backend_contract.hpp tests/backends/backend_sim.hpp
               tests/backends/collider_cases.hpp
         DESTINATION ${chainmail_include}/testing)
 
-install(DIRECTORY shaders bench/scenes DESTINATION ${CHAINMAIL_INSTALL_DATADIR})
+install(DIRECTORY shaders bench/scenes report DESTINATION ${CHAINMAIL_INSTALL_DATADIR})
+if(CHAINMAIL_THREE_JS)
+  install(FILES ${CHAINMAIL_THREE_JS} DESTINATION ${CHAINMAIL_INSTALL_DATADIR}/report)
+endif()
 install(FILES bench/plot_sweep.py bench/plot_scaling.py docs/scene.schema.json DESTINATION ${CHAINMAIL_INSTALL_DATADIR})
 install(FILES README.md LICENSE CITATION.cff DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(DIRECTORY docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs)

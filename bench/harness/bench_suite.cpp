@@ -14,6 +14,7 @@
 #include "bench/harness/interrupt.hpp"
 #include "bench/harness/output.hpp"
 #include "bench/harness/output_folder.hpp"
+#include "bench/harness/report.hpp"
 #include "bench/harness/render_output.hpp"
 #include "bench/harness/run.hpp"
 #include "bench/harness/scaling.hpp"
@@ -343,6 +344,7 @@ int bench_command(const BenchCommand& command) {
   write_file_atomic(bench.out + "/README.md", bench_readme(minutes));
   std::error_code ignored;
   fs::remove_all(bench.cache, ignored);
+  write_report_beside(folder.staging(), "bench");  // index.html: the front page of the results
   folder.commit();
   std::fprintf(stderr, "bench: wrote %s in %.1f min%s\n", command.out_dir.c_str(), minutes,
                interrupted() ? " (interrupted)" : "");

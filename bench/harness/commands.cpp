@@ -7,6 +7,7 @@
 #include "bench/harness/output.hpp"
 #include "bench/harness/output_folder.hpp"
 #include "bench/harness/render_output.hpp"
+#include "bench/harness/report.hpp"
 #include "bench/harness/run.hpp"
 #include "bench/harness/scene_file.hpp"
 #include "bench/harness/usage_error.hpp"
@@ -104,6 +105,7 @@ int run_command(const RunCommand& command) {
   options.folder = folder.staging();
   const SceneRun run = run_scene(scene, options);
   write_run_folder(run, folder.staging(), output);
+  if (command.report) write_report_beside(folder.staging(), "run");
   folder.commit();
 
   print_run_lines(run, path);

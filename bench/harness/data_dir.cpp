@@ -85,4 +85,12 @@ std::string render_shader_dir() {
   return "";
 }
 
+std::string report_page_dir() {
+  if (const fs::path bin = executable_dir(); !bin.empty() && is_dir(bin / "report"))
+    return (bin / "report").string();
+  if (const DataDir& dir = data_dir(); !dir.root.empty() && is_dir(dir.root + "/report"))
+    return dir.root + "/report";
+  return "";
+}
+
 }  // namespace chainmail

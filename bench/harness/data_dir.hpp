@@ -38,4 +38,8 @@ const DataDir& data_dir();
 // none is, and the renderer names what it searched)
 std::string render_shader_dir();
 
+// the report page's static files (index.html, scripts, styles, three.js): report/ beside the
+// binary (a build tree copies it there), else the data folder's report/ ("" when neither is)
+std::string report_page_dir();
+
 }  // namespace chainmail

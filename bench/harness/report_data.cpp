@@ -1,0 +1,187 @@
+#include "bench/harness/report_data.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "bench/harness/saved_run.hpp"
+#include "bench/harness/scene_file_text.hpp"
+#include "bench/harness/usage_error.hpp"
+#include "core/frame.hpp"
+
+namespace chainmail {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// a table or summary larger than this is not one chainmail wrote for a page
+constexpr std::uintmax_t kMaxFileBytes = 32ULL << 20;
+
+std::string read_text(const fs::path& path) {
+  std::error_code error;
+  if (fs::file_size(path, error) > kMaxFileBytes || error)
+    throw UsageError(shown(path.string()) + ": too large or unreadable for the report");
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in) throw UsageError(shown(path.string()) + ": unreadable");
+  return text.str();
+}
+
+// a summary.json as chainmail writes it: an object with the scene and the backends
+json read_summary(const fs::path& path) {
+  json summary = json::parse(read_text(path), nullptr, false);
+  if (summary.is_discarded() || !summary.is_object() || !summary.contains("scene") ||
+      !summary["scene"].is_object() || !summary.contains("backends") ||
+      !summary["backends"].is_object())
+    throw UsageError(shown(path.string()) +
+                     ": corrupt, or not a summary chainmail wrote (no scene or backends)");
+  return summary;
+}
+
+// folders the page does not read: frames (read apart), sweep points, the page's own files
+bool skipped(const fs::path& path) {
+  const std::string name = path.filename().string();
+  return name.empty() || name[0] == '.' || name == "frames" || name == "points" ||
+         name == "report";
+}
+
+// every summary, CSV table and image under `folder`, by path relative to it (sorted: the page
+// lists scenes in this order)
+void read_files(const fs::path& folder, json& files, json& images) {
+  std::vector<fs::path> found;
+  for (auto it = fs::recursive_directory_iterator(folder); it != fs::recursive_directory_iterator();
+       ++it) {
+    if (skipped(it->path())) {
+      if (it->is_directory()) it.disable_recursion_pending();
+      continue;
+    }
+    if (it->is_regular_file()) found.push_back(fs::relative(it->path(), folder));
+  }
+  std::sort(found.begin(), found.end());
+  for (const fs::path& rel : found) {
+    const std::string ext = rel.extension().string();
+    if (ext == ".png") images.push_back(rel.generic_string());
+    if (ext == ".csv") files[rel.generic_string()] = read_text(folder / rel);
+    if (rel.filename() == "summary.json") files[rel.generic_string()] = read_summary(folder / rel);
+  }
+}
+
+// a CSV table the command must have written, with the header it writes
+void require_table(const fs::path& folder, const json& files, const std::string& name,
+                   const std::string& header) {
+  const auto it = files.find(name);
+  if (it == files.end())
+    throw UsageError(shown((folder / name).string()) + ": missing (not a folder this command wrote)");
+  if (it->get<std::string>().rfind(header, 0) != 0)
+    throw UsageError(shown((folder / name).string()) + ": corrupt (no header " + header + ")");
+}
+
+std::size_t frame_files(const fs::path& dir) {
+  std::size_t count = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) count += entry.is_regular_file() ? 1 : 0;
+  return count;
+}
+
+// frames/<backend>/ of a run: every folder a backend of the summary, holding one CSV per sample
+std::vector<ReportFrames> run_frames(const fs::path& folder, const SavedRun& run,
+                                     const json& summary) {
+  std::vector<ReportFrames> result;
+  const fs::path frames = folder / "frames";
+  if (!fs::is_directory(frames)) return result;
+  for (const auto& entry : fs::directory_iterator(frames)) {
+    const std::string name = entry.path().filename().string();
+    const bool known = std::any_of(run.backends.begin(), run.backends.end(),
+                                   [&](const SavedBackend& b) { return b.name == name; });
+    if (!entry.is_directory() || !known)
+      throw UsageError(shown(entry.path().string()) + ": frames of no backend in summary.json");
+  }
+  for (const SavedBackend& b : run.backends) {
+    const fs::path dir = frames / b.name;
+    if (!fs::is_directory(dir)) continue;
+    const json& entry = summary["backends"][b.name];
+    const std::size_t samples = entry.contains("samples") && entry["samples"].is_number_unsigned()
+                                    ? entry["samples"].get<std::size_t>()
+                                    : b.times.size();
+    if (b.frames != b.times.size() || samples != b.times.size() || frame_files(dir) != b.frames)
+      throw UsageError(shown(dir.string()) + ": " + std::to_string(frame_files(dir)) +
+                       " frame files, but summary.json has " + std::to_string(samples) +
+                       " samples (frames do not match the summary)");
+    result.push_back({b.name, dir.string(), b.frames, b.times});
+  }
+  return result;
+}
+
+// a run folder: its summary and metrics read as `render` reads them, and its frames checked
+void read_run(const fs::path& folder, ReportInput& input) {
+  const SavedRun run = read_saved_run(folder.string());
+  input.frames = run_frames(folder, run, input.data["files"]["summary.json"]);
+  input.rings = static_cast<int>(run.weave.size());
+  if (input.frames.empty()) return;
+  json backends = json::object();
+  for (const ReportFrames& f : input.frames)
+    backends[f.backend] = {{"count", f.count}, {"times", f.times}};
+  input.data["frames"] = {{"rings", input.rings}, {"backends", backends}};
+  for (const ReportFrames& f : input.frames) {
+    for (std::size_t k = 0; k < f.count; ++k) frame_script(f, k, input.rings);  // checked now
+  }
+}
+
+bool has_scene_summary(const json& files) {
+  for (const auto& [name, value] : files.items()) {
+    if (name.find('/') != std::string::npos && value.is_object()) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+ReportInput read_report_input(const std::string& folder, const std::string& command) {
+  ReportInput input;
+  input.data = {{"kind", command},
+                {"folder", fs::absolute(folder).lexically_normal().filename().string()},
+                {"files", json::object()},
+                {"images", json::array()},
+                {"frames", nullptr}};
+  read_files(folder, input.data["files"], input.data["images"]);
+  const json& files = input.data["files"];
+  if (command == "run") {
+    read_run(folder, input);
+  } else if (command == "sweep") {
+    require_table(folder, files, "sweep.csv", "backend,");
+  } else if (command == "stability") {
+    require_table(folder, files, "stability.csv", "case,backend,");
+  } else if (command == "bench" && !has_scene_summary(files)) {
+    throw UsageError(shown(folder) + ": no <scene>/summary.json (not a folder bench wrote)");
+  }
+  return input;
+}
+
+std::string frame_script(const ReportFrames& frames, std::size_t k, int rings) {
+  char name[32];
+  std::snprintf(name, sizeof name, "/%05zu.csv", k);
+  RingFrame frame;
+  read_frame_csv(frames.folder + name, rings, frame);
+  std::string text = "chainmailFrame(" + json(frames.backend).dump() + "," + std::to_string(k) +
+                     "," + json(frames.times[k]).dump() + ",[";
+  text.reserve(text.size() + static_cast<std::size_t>(rings) * 7 * 12);
+  char number[32];
+  for (int r = 0; r < rings; ++r) {
+    const double values[7] = {frame.position(0, r),    frame.position(1, r),
+                              frame.position(2, r),    frame.orientation(0, r),
+                              frame.orientation(1, r), frame.orientation(2, r),
+                              frame.orientation(3, r)};
+    for (int c = 0; c < 7; ++c) {
+      // 7 digits: a micrometre on a metre-sized scene, far below a ring's wire
+      std::snprintf(number, sizeof number, r + c == 0 ? "%.7g" : ",%.7g", values[c]);
+      text += number;
+    }
+  }
+  text += "]);\n";
+  return text;
+}
+
+}  // namespace chainmail
