@@ -56,9 +56,9 @@ const BenchPlan& bench_plan() {
                {"weave.cols=40", "duration=1.0"},
                {"weave.cols=6", "duration=0.05"}},
           },
-      // error against run time: the curtain, the corner-hung sheet and the table cloth over each
-      // backend's dt (8 x 8 sheets, about 5 cm: the table shrinks to 1.5 cm so that the cloth
-      // drapes over it)
+      // error against run time, every bench scene over each backend's dt (8 x 8 sheets, about 5
+      // cm: the table and the ball shrink to 1.5 cm so that the cloth drapes over them; shorter
+      // chains)
       .sweeps =
           {
               {"curtain.json", {"weave.rows=8", "weave.cols=8", "duration=0.5"}, quick_sheet},
@@ -67,6 +67,12 @@ const BenchPlan& bench_plan() {
                {"weave.rows=8", "weave.cols=8", "duration=0.5", "colliders.0.radius=0.015",
                 "support.radius=0.015"},
                quick_sheet},
+              {"sphere_drape.json",
+               {"weave.rows=8", "weave.cols=8", "duration=0.5", "colliders.0.radius=0.015",
+                "colliders.0.center=[0,0.12,0]"},
+               quick_sheet},
+              {"chain_catenary.json", {"weave.cols=30", "duration=2.0"}, {"weave.cols=8", "duration=0.05"}},
+              {"chain_pile.json", {"weave.cols=20", "duration=0.5"}, {"weave.cols=6", "duration=0.05"}},
           },
       .vary = "backends.{backend}.dt=0.008,0.004,0.002,0.001,0.0005",
       .quick_vary = "backends.{backend}.dt=0.004,0.002",
@@ -294,10 +300,10 @@ std::string bench_readme(double minutes) {
          "other backends up to the size they finish within a minute (median of 3 runs where a "
          "run takes at most about 12 s), with each one's cost relative to ODE's; the runs at a "
          "size taken in turn.\n"
-         "- `sweep/<scene>/` — error against run time: the curtain, the corner-hung sheet and the "
-         "table cloth (8 x 8) at "
-         "a range of dt per backend; `sweep.csv` (wall seconds per simulated second, drape error "
-         "against the reference run) and `sweep.png` (log-log, Pareto front marked).\n"
+         "- `sweep/<scene>/` — error against run time, the Pareto front across models: every "
+         "bench scene (sheets of 8 x 8, shorter chains) at a range of dt per backend; `sweep.csv` "
+         "(wall seconds per simulated second, drape error against the reference run) and "
+         "`sweep.png` (log-log, the front marked: which model to pick for an error budget).\n"
          "- `stability/` — the stiff and extreme cases: verdict at default settings and the "
          "largest stable dt found by bisection.\n"
          "- `stability/` is written last; the gallery (`../curtain_30x30/`), the shader "
