@@ -9,6 +9,7 @@ packages=(
   libosmesa6-dev libegl-dev libgl-dev libgles-dev libstb-dev
   python3-matplotlib python3-jsonschema python3-numpy ffmpeg
   python3-dev pybind11-dev python3-pytest parallel
+  clang libfuzzer-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do
