@@ -27,7 +27,7 @@ for target in "${targets[@]}"; do
   mkdir -p "$corpus" "$findings"
   regressions="tests/fuzz/regressions/$target"
   if [ -d "$regressions" ] && [ -n "$(ls -A "$regressions")" ]; then
-    "$binary" -runs=0 "$regressions"/* >/dev/null 2>&1 || {
+    "$binary" -timeout=20 "$regressions"/* >/dev/null 2>&1 || {
       echo "fuzz: $target: a regression input crashes again (run $binary on $regressions)"
       status=1
     }
