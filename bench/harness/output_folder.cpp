@@ -141,12 +141,27 @@ std::string process_identity(long pid) {
          read_line("/proc/sys/kernel/random/boot_id");
 }
 
+// where a pid means one process: this host and pid namespace ("HOST:pid:[INODE]"); a staging
+// folder made elsewhere (another node of a cluster on a shared file system, another container)
+// is never judged from here
+std::string pid_space() {
+  char host[256] = {};
+  ::gethostname(host, sizeof host - 1);
+  std::error_code ignored;
+  return std::string(host) + ":" + fs::read_symlink("/proc/self/ns/pid", ignored).string();
+}
+
+// what a staging folder's marker holds: "PID START BOOT PID_SPACE"
+std::string marker_text() { return process_identity(::getpid()) + " " + pid_space(); }
+
 // whether the process a marker names is gone: no such pid, or a pid now another process's
 bool marker_process_gone(const std::string& marker, long pid) {
   if (marker.rfind(std::to_string(pid) + " ", 0) != 0) return false;  // not this folder's pid
+  const std::size_t space = marker.rfind(' ');
+  if (marker.substr(space + 1) != pid_space()) return false;
   if (::kill(static_cast<pid_t>(pid), 0) != 0) return errno == ESRCH;
   const std::string now = process_identity(pid);
-  return !now.empty() && now != marker;
+  return !now.empty() && now != marker.substr(0, space);
 }
 
 // removes the staging folders of runs into `target` that were killed (kill -9, power loss):
@@ -267,7 +282,7 @@ OutputFolder OutputFolder::claim(const std::string& path, const std::string& com
   folder.staging_ = staging.string();
   errno = 0;
   std::ofstream marker(staging / kStagingMarker);
-  marker << process_identity(::getpid()) << "\n";
+  marker << marker_text() << "\n";
   marker.flush();
   if (!marker) throw_write_error((staging / kStagingMarker).string(), errno);
   return folder;
