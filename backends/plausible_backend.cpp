@@ -2,6 +2,7 @@
 #include <numbers>
 
 #include "backends/backend.hpp"
+#include "core/parallel.hpp"
 #include "core/plausible.hpp"
 
 namespace chainmail {
@@ -78,15 +79,20 @@ class PlausibleBackend final : public Backend {
     sim_.reset(scene, weave, plausible_knobs().settings(knobs));
   }
   StepStatus step(double dt) override {
+    sim_.set_threads(threads_for_step(threads_));
     sim_.step(dt);
     return StepStatus::ok;
   }
   void frame(RingFrame& out) const override { sim_.frame(out); }
   const StageProfile& profile() const override { return sim_.profile(); }
-  void set_threads(int threads) override { sim_.set_threads(threads); }
+  void set_threads(int threads) override {
+    threads_ = threads;
+    sim_.set_threads(threads);
+  }
 
  private:
   PlausibleSim sim_;
+  int threads_ = 1;  // asked for; each step uses those the machine leaves free
 };
 
 }  // namespace

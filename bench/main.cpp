@@ -14,6 +14,7 @@
 #include "bench/harness/data_dir.hpp"
 #include "bench/harness/info_commands.hpp"
 #include "bench/harness/interrupt.hpp"
+#include "bench/harness/output_error.hpp"
 #include "bench/harness/render_command.hpp"
 #include "bench/harness/report.hpp"
 #include "bench/harness/stability.hpp"
@@ -227,8 +228,8 @@ void add_bench(CLI::App& app, BenchFlags& flags) {
 // the end of --help: exit statuses, and where the bench scenes are
 std::string help_footer() {
   const chainmail::DataDir& data = chainmail::data_dir();
-  return "Exit status: 0 ok, 1 a run was unstable, 2 bad input, 3 internal error, 130 "
-         "interrupted.\n`chainmail backends` lists every backend and knob; the docs describe "
+  return "Exit status: 0 ok, 1 a run was unstable, 2 bad input, 3 internal error, 4 the "
+         "output could not be written, 130 interrupted.\n`chainmail backends` lists every backend and knob; the docs describe "
          "every scene key, flag, metric and output file.\nBench scenes: " +
          (data.root.empty() ? std::string("none found") : data.scenes()) +
          " (CHAINMAIL_DATA_DIR overrides the data folder).";
@@ -398,6 +399,17 @@ int main(int argc, char** argv) {
   } catch (const SceneError& e) {
     std::fprintf(stderr, "chainmail: %s\n", e.what());
     return kExitBadInput;
+  } catch (const OutputError& e) {
+    std::fprintf(stderr, "chainmail: %s\n", e.what());
+    return kExitOutput;
+  } catch (const std::filesystem::filesystem_error& e) {
+    if (!is_output_failure(e.code())) {
+      std::fprintf(stderr, "chainmail: internal error: %s\n", e.what());
+      return kExitInternal;
+    }
+    std::fprintf(stderr, "chainmail: cannot write %s: %s\n", e.path1().c_str(),
+                 e.code().message().c_str());
+    return kExitOutput;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "chainmail: internal error: %s\n", e.what());
     return kExitInternal;

@@ -21,6 +21,13 @@ inline int hardware_threads() {
   return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
 }
 
+// threads a step should use, called once before each step (a model's loops then use that many for
+// the whole step): `requested`, or fewer while other processes keep cores busy, so that no thread
+// of a team waits for a core at every barrier (on a machine whose cores are all taken, two
+// threads can be many times slower than one). The result of a step does not depend on it. The
+// environment variable CHAINMAIL_ADAPT_THREADS=0 turns this off (always `requested`).
+int threads_for_step(int requested);
+
 // whether this build can run loops on more than one thread
 inline bool parallel_loops_available() {
 #if defined(CHAINMAIL_HAS_OPENMP)

@@ -159,16 +159,18 @@ std::vector<int> resolve_pins(const Scene& scene, const Weave& weave) {
         pinned.push_back(ring);
         break;
       }
-      case PinSpec::Kind::edge:
-        for (int r = 0; r < weave.rows; ++r) {
-          for (int k = 0; k < weave.cols; ++k) {
-            const bool on =
-                (pin.which == "top" && r == 0) || (pin.which == "bottom" && r == weave.rows - 1) ||
-                (pin.which == "left" && k == 0) || (pin.which == "right" && k == weave.cols - 1);
-            if (on) pinned.push_back(weave.ring_at_row_col(r, k));
-          }
-        }
+      case PinSpec::Kind::edge: {
+        // the edge's rings only: a walk over the whole sheet costs its size (16.7 million rings
+        // for the largest one a scene may ask for)
+        const bool row = pin.which == "top" || pin.which == "bottom";
+        if (!row && pin.which != "left" && pin.which != "right") break;
+        const int at = pin.which == "top" || pin.which == "left" ? 0
+                       : row                                    ? weave.rows - 1
+                                                                : weave.cols - 1;
+        for (int k = 0; k < (row ? weave.cols : weave.rows); ++k)
+          pinned.push_back(row ? weave.ring_at_row_col(at, k) : weave.ring_at_row_col(k, at));
         break;
+      }
       case PinSpec::Kind::corner: {
         const int r = pin.which.starts_with("top") ? 0 : weave.rows - 1;
         const int k = pin.which.ends_with("left") ? 0 : weave.cols - 1;

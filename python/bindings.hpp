@@ -23,6 +23,12 @@ struct PyScene {
   Scene scene;
 };
 
+// a text argument (path, name) refused with ValueError naming it where it holds a NUL byte, which
+// the file system would cut it at
+void check_text(const std::string& argument, const std::string& value);
+// threads as the command line's --threads takes them, 0 for the default (ValueError otherwise)
+int checked_threads(int threads);
+
 // load_scene's overrides: {key: value} -> "key=<value as JSON>"
 std::vector<std::string> override_texts(const py::dict& overrides);
 // a JSON document as Python objects (dict, list, float, ...)

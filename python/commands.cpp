@@ -49,12 +49,6 @@ class HarnessSignals {
   }, old_term_{};
 };
 
-// threads as the command line takes them (0: the command's default)
-int checked_threads(int threads) {
-  if (threads < 0) throw py::value_error("threads: " + std::to_string(threads) + " is below 0");
-  return threads;
-}
-
 nlohmann::json read_json(const std::string& path) {
   std::ifstream in(path);
   return nlohmann::json::parse(in);
@@ -90,6 +84,10 @@ void without_the_gil(Command&& command) {
 py::object run(const PyScene& scene, const std::vector<std::string>& backends,
                const std::optional<std::string>& out, const std::string& reference,
                const std::string& cache, bool progress, int threads) {
+  for (const std::string& name : backends) check_text("backends", name);
+  if (out) check_text("out", *out);
+  check_text("reference", reference);
+  check_text("cache", cache);
   std::optional<TemporaryFolder> temporary;
   if (!out) temporary.emplace();
   RunCommand command;
@@ -108,6 +106,11 @@ py::object run(const PyScene& scene, const std::vector<std::string>& backends,
 std::string sweep(const PyScene& scene, const std::vector<std::string>& vary,
                   const std::vector<std::string>& backends, const std::optional<std::string>& out,
                   int jobs, const std::string& cache, bool progress, int threads) {
+  for (const std::string& text : vary) check_text("vary", text);
+  for (const std::string& name : backends) check_text("backends", name);
+  if (out) check_text("out", *out);
+  check_text("cache", cache);
+  if (jobs < 1 || jobs > 256) throw py::value_error("jobs: " + std::to_string(jobs) + " is outside 1 to 256");
   SweepCommand command;
   command.scene_file = scene.path;
   command.overrides = scene.overrides;

@@ -4,6 +4,7 @@
 
 #include "backends/backend.hpp"
 #include "bench/harness/info_commands.hpp"
+#include "bench/harness/output_error.hpp"
 #include "bench/harness/scene_file.hpp"
 #include "bench/harness/usage_error.hpp"
 #include "bench/harness/version.hpp"
@@ -11,12 +12,38 @@
 
 namespace chainmail::python {
 
+void check_text(const std::string& argument, const std::string& value) {
+  if (value.find('\0') != std::string::npos)
+    throw py::value_error(argument + ": holds a NUL byte, which no path or name may hold");
+}
+
+int checked_threads(int threads) {
+  if (threads < 0 || threads > 4096) {
+    throw py::value_error("threads: " + std::to_string(threads) +
+                          " is outside 0 to 4096 (0: every hardware thread)");
+  }
+  return threads;
+}
+
 std::vector<std::string> override_texts(const py::dict& overrides) {
   const py::object dumps = py::module_::import("json").attr("dumps");
   std::vector<std::string> texts;
   for (const auto& [key, value] : overrides) {
-    texts.push_back(py::str(key).cast<std::string>() + "=" +
-                    dumps(value, py::arg("allow_nan") = false).cast<std::string>());
+    if (!py::isinstance<py::str>(key)) {
+      throw py::value_error("overrides: key " + py::repr(key).cast<std::string>() +
+                            " is not a text (a dotted scene key)");
+    }
+    const std::string name = py::str(key).cast<std::string>();
+    check_text("overrides", name);
+    std::string text;
+    try {
+      text = dumps(value, py::arg("allow_nan") = false).cast<std::string>();
+    } catch (const py::error_already_set& e) {
+      // NaN, infinity, or an object JSON cannot hold: refused naming the key, as --set would be
+      throw py::value_error("overrides: key '" + name + "': " +
+                            py::repr(value).cast<std::string>() + " is not a JSON value");
+    }
+    texts.push_back(name + "=" + text);
   }
   return texts;
 }
@@ -28,6 +55,7 @@ py::object to_python(const nlohmann::json& value) {
 namespace {
 
 PyScene load_scene(const std::string& path, const py::dict& overrides) {
+  check_text("path", path);
   PyScene s{path, override_texts(overrides), {}};
   s.scene = load_scene_file(path, s.overrides);
   validate_backend_knobs(s.scene);  // the same checks (and messages) as `chainmail check`
@@ -60,6 +88,7 @@ PYBIND11_MODULE(_chainmail, m) {
   m.doc() = "chainmail: interlocking-ring fabric through several physics models";
   py::register_exception<cm::SceneError>(m, "SceneError", PyExc_ValueError);
   py::register_exception<cm::UsageError>(m, "UsageError", PyExc_ValueError);
+  py::register_exception<cm::OutputError>(m, "OutputError", PyExc_OSError);
   m.attr("__version__") = cm::chainmail_version();
   m.def(
       "backends", [] { return cm::python::to_python(cm::backends_json()["backends"]); },

@@ -1,5 +1,6 @@
 // chainmail.Simulation: one backend stepped from Python, its frame as NumPy arrays that share the
 // frame's memory; chainmail.render: simulations drawn side by side into an (H, W, 3) array.
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 
@@ -11,6 +12,7 @@
 #include "bench/harness/output.hpp"
 #include "bench/harness/run.hpp"
 #include "bench/harness/scene_file.hpp"
+#include "bench/harness/shared_model.hpp"
 #include "core/metrics.hpp"
 #include "python/bindings.hpp"
 #if CHAINMAIL_HAVE_RENDER
@@ -21,51 +23,66 @@
 namespace chainmail::python {
 namespace {
 
+// a step's or a path's argument refused as the command line refuses it: ValueError naming it
+[[noreturn]] void refuse(const std::string& what) { throw py::value_error(what); }
+
 class Simulation {
  public:
   Simulation(const PyScene& scene, const std::string& backend, const py::dict& knobs, int threads)
-      : backend_name_(backend) {
-    if (threads < 0) throw py::value_error("threads: " + std::to_string(threads) + " is below 0");
-    // the knobs as overrides of backends.<name>, so that they are checked as a scene file's are
-    std::vector<std::string> sets = scene.overrides;
-    for (const std::string& knob : override_texts(knobs))
-      sets.push_back("backends." + backend + "." + knob);
-    scene_ = load_scene_file(scene.path, sets);
-    validate_backend_knobs(scene_);
-    select_backends(scene_, {backend});  // unknown or unbuilt: UsageError naming it
-    const BackendInfo& info = *find_backend(backend);
-    knobs_ = resolve_knobs(scene_, info);
-    weave_ = make_weave(scene_.weave, scene_.ring);
-    model_ = info.create();
-    model_->set_threads(threads > 0 ? threads : hardware_threads());
-    model_->reset(scene_, weave_, knobs_);
-    model_->frame(frame_);
+      : shared_(load(scene, backend, knobs), backend, checked_threads(threads)) {
+    shared_.read_frame(frame_);
   }
 
-  // n steps of dt (the backend's dt knob when None); the GIL is released while a step runs and
-  // a signal (Ctrl-C) is looked at between steps. False once the model's state is not finite.
+  // n steps of dt (the backend's dt knob when None). Each step releases the GIL and takes the
+  // simulation's lock, so steps from several threads are serialised; a signal (Ctrl-C) is looked
+  // at between steps. False once the model's state is not finite.
   bool step(std::optional<double> dt, long long n) {
-    const double h = dt.value_or(knobs_.at("dt"));
-    if (!(h > 0.0)) throw py::value_error("step: dt must be positive");
-    bool ok = finite_;
+    const double h = dt.value_or(shared_.knobs().at("dt"));
+    try {
+      shared_.check_step(h, n);
+    } catch (const std::invalid_argument& e) {
+      refuse(std::string("step: ") + e.what());
+    }
+    bool ok = true;
     for (long long k = 0; k < n && ok; ++k) {
       {
         py::gil_scoped_release release;
-        ok = model_->step(h) == StepStatus::ok;
+        ok = shared_.step(h);
       }
-      ++steps_;
       if (PyErr_CheckSignals() != 0) {
-        model_->frame(frame_);  // where it got to, for the handler
+        refresh();  // where it got to, for the handler
         throw py::error_already_set();
       }
     }
-    finite_ = ok;
-    model_->frame(frame_);
+    refresh();
     return ok;
   }
 
   // summary.json's "final" for the current frame (drape_rms absent: no reference here)
-  py::object metrics() const { return to_python(metrics_json(measure(frame_, weave_, scene_))); }
+  py::object metrics() const {
+    return to_python(metrics_json(measure(frame_, shared_.weave(), shared_.scene())));
+  }
+
+  // copies of the current frame's arrays, taken under the lock: a state between two steps even
+  // while another thread steps (the views are refreshed at the end of a step() call only)
+  py::dict snapshot() const {
+    RingFrame copy;
+    {
+      py::gil_scoped_release release;
+      shared_.read_frame(copy);
+    }
+    auto rows = [](const auto& m) {
+      py::array_t<double> a({static_cast<py::ssize_t>(m.cols()), static_cast<py::ssize_t>(m.rows())});
+      std::copy(m.data(), m.data() + m.size(), a.mutable_data());
+      return a;
+    };
+    py::dict out;
+    out["t"] = copy.t;
+    out["positions"] = rows(copy.position);
+    out["orientations"] = rows(copy.orientation);
+    out["velocities"] = rows(copy.velocity);
+    return out;
+  }
 
   std::string hash() const {
     char text[17];
@@ -74,22 +91,47 @@ class Simulation {
     return text;
   }
 
-  const Scene& scene() const { return scene_; }
-  const Weave& weave() const { return weave_; }
+  const Scene& scene() const { return shared_.scene(); }
+  const Weave& weave() const { return shared_.weave(); }
   const RingFrame& frame() const { return frame_; }
-  const std::string& backend() const { return backend_name_; }
-  const Knobs& knobs() const { return knobs_; }
-  long long steps() const { return steps_; }
+  const std::string& backend() const { return shared_.backend(); }
+  const Knobs& knobs() const { return shared_.knobs(); }
+  long long steps() const {
+    py::gil_scoped_release release;  // the lock is never waited for with the GIL held
+    return shared_.steps();
+  }
 
  private:
-  std::string backend_name_;
-  Scene scene_;
-  Weave weave_;
-  Knobs knobs_;
-  std::unique_ptr<Backend> model_;
-  RingFrame frame_;  // refreshed after every step() call; the arrays below view it
-  long long steps_ = 0;
-  bool finite_ = true;
+  static Scene load(const PyScene& scene, const std::string& backend, const py::dict& knobs) {
+    check_text("backend", backend);
+    // the knobs as overrides of backends.<name>, so that they are checked as a scene file's are
+    std::vector<std::string> sets = scene.overrides;
+    for (const std::string& knob : override_texts(knobs))
+      sets.push_back("backends." + backend + "." + knob);
+    Scene loaded = load_scene_file(scene.path, sets);
+    validate_backend_knobs(loaded);
+    return loaded;
+  }
+
+  // the views' frame from the model: copied with the GIL released (waiting for the lock while a
+  // step runs), then into frame_ with the GIL held, so that Python never reads it half written;
+  // the same size, so frame_'s memory (which the views show) stays where it is. Of two threads
+  // refreshing at once, the copy of the later state wins, whichever gets the GIL first.
+  void refresh() {
+    RingFrame copy;
+    long long steps = 0;
+    {
+      py::gil_scoped_release release;
+      steps = shared_.read_frame(copy);
+    }
+    if (steps < frame_steps_) return;
+    frame_ = copy;
+    frame_steps_ = steps;
+  }
+
+  SharedModel shared_;
+  RingFrame frame_;  // refreshed at the end of every step() call; the arrays below view it
+  long long frame_steps_ = 0;  // the steps taken up to frame_
 };
 
 // a read-only (rows, cols) view of a column-major (cols, rows) Eigen matrix: its columns are the
@@ -107,18 +149,37 @@ py::array_t<double> rows_view(const Matrix& m, py::handle owner) {
 
 #if CHAINMAIL_HAVE_RENDER
 // the simulations' current frames side by side, one panel each, as (height, width * n, 3) uint8
+void check_render_arguments(size_t count, int width, int height, const std::string& material,
+                            int samples) {
+  if (count == 0) refuse("simulations: no simulation to draw");
+  // as `chainmail render --size WxH --samples N --material NAME` take them
+  if (width < 16 || width > 8192) refuse("width: " + std::to_string(width) + " pixels, expected 16 to 8192");
+  if (height < 16 || height > 8192)
+    refuse("height: " + std::to_string(height) + " pixels, expected 16 to 8192");
+  if (samples < 0 || samples > 16) refuse("samples: " + std::to_string(samples) + ", expected 0 to 16");
+  const std::vector<std::string> names = render::material_names();
+  if (std::find(names.begin(), names.end(), material) == names.end()) {
+    std::string known;
+    for (const std::string& name : names) known += (known.empty() ? "" : ", ") + name;
+    refuse("material: unknown '" + material + "' (" + known + ")");
+  }
+}
+
 py::array_t<std::uint8_t> render_frames(const std::vector<const Simulation*>& sims, int width,
                                         int height, const std::string& material, int samples) {
-  if (sims.empty()) throw py::value_error("render: no simulation to draw");
+  check_render_arguments(sims.size(), width, height, material, samples);
   render::RenderSettings settings;
   settings.shader_dir = render_shader_dir();
   settings.width = width, settings.height = height, settings.samples = samples;
   settings.material = material;
   settings.cloth_shader = "texture";  // as `chainmail run --render` draws the cloth baseline
+  // the frames copied with the GIL held (when a step() call refreshes them), drawn without it
+  std::vector<RingFrame> frames;
+  for (const Simulation* s : sims) frames.push_back(s->frame());
   std::vector<render::Panel> panels;
-  for (const Simulation* s : sims) {
-    const BackendInfo* info = find_backend(s->backend());
-    panels.push_back({s->backend(), &s->frame(), info && info->cloth_surface});
+  for (size_t k = 0; k < sims.size(); ++k) {
+    const BackendInfo* info = find_backend(sims[k]->backend());
+    panels.push_back({sims[k]->backend(), &frames[k], info && info->cloth_surface});
   }
   render::Image image;
   {
@@ -127,7 +188,9 @@ py::array_t<std::uint8_t> render_frames(const std::vector<const Simulation*>& si
       image =
           render::Renderer::create(settings)->render(sims[0]->scene(), sims[0]->weave(), panels);
     } catch (const render::RenderError& e) {
-      throw SceneError(std::string("render: ") + e.what());
+      // the renderer's messages already begin with "render: "
+      const std::string what = e.what();
+      throw SceneError(what.rfind("render: ", 0) == 0 ? what : "render: " + what);
     }
   }
   py::array_t<std::uint8_t> rgb({image.height, image.width, 3});
@@ -148,6 +211,9 @@ void add_simulation(py::module_& m) {
            "threads: those step() may use (0: every hardware thread)")
       .def("step", &Simulation::step, py::arg("dt") = py::none(), py::arg("n") = 1,
            "advance n steps of dt (default: the backend's dt knob); False once not finite")
+      .def("snapshot", &Simulation::snapshot,
+           "{t, positions, orientations, velocities}: copies taken between two steps, even while "
+           "another thread steps")
       .def("metrics", &Simulation::metrics, "the metrics of the current frame, as summary.json")
       .def_property_readonly("t", [](const Simulation& s) { return s.frame().t; })
       .def_property_readonly("steps", &Simulation::steps)

@@ -10,6 +10,7 @@ packages=(
   python3-matplotlib python3-jsonschema python3-numpy ffmpeg
   python3-dev pybind11-dev python3-pytest parallel
   libjs-three chromium
+  clang libfuzzer-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -7,6 +7,8 @@
 # With root (or sudo without a password) the release build also runs a sweep through a one-node
 # Slurm cluster on this machine against the same sweep run locally (scripts/slurm-test.sh, about a
 # minute and a half); CHAINMAIL_SLURM_TEST=0 leaves it out.
+# Then each fuzz target runs for CHAINMAIL_FUZZ_SECONDS (default 60; 0 leaves it out) when clang and
+# libFuzzer are installed (scripts/fuzz.sh; the fuzz build and three minutes of fuzzing).
 # `./scripts/test.sh release` or `./scripts/test.sh minimal` runs one of them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -26,3 +28,13 @@ for preset in ${presets[*]}; do
     fi
   fi
 done
+fuzz_seconds="${CHAINMAIL_FUZZ_SECONDS:-60}"
+if [ "$fuzz_seconds" != 0 ]; then
+  if command -v clang++ >/dev/null && ls /usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-*.a \
+      >/dev/null 2>&1; then
+    echo "== fuzz"
+    ./scripts/fuzz.sh "$fuzz_seconds"
+  else
+    echo "test: clang or libFuzzer missing: fuzzing is left out (scripts/fuzz.sh)"
+  fi
+fi

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "bench/harness/frame_stream.hpp"
+#include "bench/harness/output_error.hpp"
 #include "bench/harness/scene_file.hpp"
 #include "bench/harness/table_cells.hpp"
 #include "bench/harness/version.hpp"
@@ -41,10 +42,11 @@ void write_file_atomic(const std::string& path, const std::string& text) {
   if (fs::path(path).has_parent_path()) fs::create_directories(fs::path(path).parent_path());
   const std::string tmp = path + ".tmp";
   {
+    errno = 0;
     std::ofstream out(tmp, std::ios::binary);
     out << text;
     out.flush();
-    if (!out) throw std::runtime_error("cannot write " + tmp);
+    if (!out) throw_write_error(tmp, errno);
   }
   fs::rename(tmp, path);
 }
@@ -224,6 +226,7 @@ void write_run_folder(const SceneRun& run, const std::string& folder,
   // metrics.csv: the rows each backend streamed, in the order of the runs
   {
     const std::string path = folder + "/metrics.csv";
+    errno = 0;
     std::ofstream out(path + ".tmp", std::ios::binary);
     out << metrics_header();
     for (const BackendRun& b : run.runs) {
@@ -231,7 +234,7 @@ void write_run_folder(const SceneRun& run, const std::string& folder,
       if (rows && rows.peek() != std::ifstream::traits_type::eof()) out << rows.rdbuf();
     }
     out.flush();
-    if (!out) throw std::runtime_error("cannot write " + path);
+    if (!out) throw_write_error(path, errno);
     out.close();
     fs::rename(path + ".tmp", path);
   }

@@ -1,6 +1,7 @@
 #include "bench/harness/output_folder.hpp"
 
 #include <limits.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -10,9 +11,11 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "bench/harness/output_error.hpp"
 #include "bench/harness/version.hpp"
 #include "core/scene.hpp"
 
@@ -59,7 +62,12 @@ void write_manifest(const std::string& folder, const std::string& command,
                     const std::vector<std::string>& files) {
   const json manifest = {
       {"chainmail", chainmail_version()}, {"command", command}, {"files", files}};
-  std::ofstream(fs::path(folder) / kManifestName) << manifest.dump(1) << "\n";
+  const fs::path path = fs::path(folder) / kManifestName;
+  errno = 0;
+  std::ofstream out(path);
+  out << manifest.dump(1) << "\n";
+  out.flush();
+  if (!out) throw_write_error(path.string(), errno);
 }
 
 namespace {
@@ -108,8 +116,88 @@ std::string lexical_refusal(const std::string& path) {
   return "";
 }
 
+// what marks a staging folder as chainmail's: the process that made it, identified beyond its pid
+// (pids are reused) by its start time since boot and the boot it started in
+constexpr const char* kStagingMarker = ".chainmail-staging";
+
+std::string read_line(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
+
+// "PID START BOOT" for a process (START: field 22 of /proc/PID/stat, in clock ticks since boot);
+// "" when it is gone
+std::string process_identity(long pid) {
+  const std::string stat = read_line("/proc/" + std::to_string(pid) + "/stat");
+  const std::size_t close = stat.rfind(')');  // the command name may hold spaces and ')'
+  if (close == std::string::npos) return "";
+  std::istringstream fields(stat.substr(close + 2));
+  std::string field;
+  for (int k = 3; k <= 22 && fields >> field; ++k) {
+  }
+  return std::to_string(pid) + " " + field + " " +
+         read_line("/proc/sys/kernel/random/boot_id");
+}
+
+// where a pid means one process: this host and pid namespace ("HOST:pid:[INODE]"); a staging
+// folder made elsewhere (another node of a cluster on a shared file system, another container)
+// is never judged from here
+std::string pid_space() {
+  char host[256] = {};
+  ::gethostname(host, sizeof host - 1);
+  std::error_code ignored;
+  return std::string(host) + ":" + fs::read_symlink("/proc/self/ns/pid", ignored).string();
+}
+
+// what a staging folder's marker holds: "PID START BOOT PID_SPACE"
+std::string marker_text() { return process_identity(::getpid()) + " " + pid_space(); }
+
+// whether the process a marker names is gone: no such pid, or a pid now another process's
+bool marker_process_gone(const std::string& marker, long pid) {
+  if (marker.rfind(std::to_string(pid) + " ", 0) != 0) return false;  // not this folder's pid
+  const std::size_t space = marker.rfind(' ');
+  if (marker.substr(space + 1) != pid_space()) return false;
+  if (::kill(static_cast<pid_t>(pid), 0) != 0) return errno == ESRCH;
+  const std::string now = process_identity(pid);
+  return !now.empty() && now != marker.substr(0, space);
+}
+
+// removes the staging folders of runs into `target` that were killed (kill -9, power loss):
+// ".NAME.partial-PID" folders holding chainmail's marker whose process is gone
+void remove_dead_staging(const fs::path& target) {
+  std::string prefix = ".";  // appended: GCC 12 warns falsely on "." + name
+  prefix += target.filename().string() + ".partial-";
+  std::error_code ec;
+  for (auto it = fs::directory_iterator(target.parent_path(), ec);
+       !ec && it != fs::directory_iterator(); it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.rfind(prefix, 0) != 0 || !it->is_directory(ec) || it->is_symlink(ec)) continue;
+    const std::string digits = name.substr(prefix.size());
+    if (digits.empty() || digits.size() > 9 ||
+        digits.find_first_not_of("0123456789") != std::string::npos)
+      continue;
+    const fs::path marker = it->path() / kStagingMarker;
+    struct stat info {};
+    if (::lstat(marker.c_str(), &info) != 0 || !S_ISREG(info.st_mode)) continue;  // not ours
+    if (!marker_process_gone(read_line(marker.string()), std::stol(digits))) continue;
+    std::error_code ignored;
+    fs::remove_all(it->path(), ignored);
+  }
+}
+
 [[noreturn]] void refuse(const std::string& flag, const std::string& path, const std::string& why) {
   throw SceneError(flag + " '" + path + "': " + why);
+}
+
+// a folder that cannot be made: a file system that takes no writes (read-only, full, failing) is
+// the output that could not be written (exit 4); anything else is a path to refuse (exit 2)
+[[noreturn]] void cannot_create(const std::string& flag, const std::string& path,
+                                const std::string& folder, int error) {
+  if (error == EROFS || error == ENOSPC || error == EDQUOT || error == EIO)
+    throw_write_error(folder, error);
+  refuse(flag, path, (folder == path ? "" : "cannot create " + folder + ": ") + std::strerror(error));
 }
 
 }  // namespace
@@ -177,8 +265,7 @@ OutputFolder OutputFolder::claim(const std::string& path, const std::string& com
       // together and share their parents): there to use, and not ours to remove
       struct stat info {};
       if (error == EEXIST && ::stat(it->c_str(), &info) == 0 && S_ISDIR(info.st_mode)) continue;
-      const std::string why = "cannot create " + it->string() + ": " + std::strerror(error);
-      refuse(flag, path, why);  // the destructor removes what was created
+      cannot_create(flag, path, it->string(), error);  // the destructor removes what was made
     }
     folder.created_parents_.push_back(it->string());
   }
@@ -190,8 +277,14 @@ OutputFolder OutputFolder::claim(const std::string& path, const std::string& com
   const fs::path staging = target.parent_path() / staging_name;
   std::error_code ignored;
   fs::remove_all(staging, ignored);  // a leftover of this very pid cannot be a user's
-  if (::mkdir(staging.c_str(), 0777) != 0) refuse(flag, path, std::strerror(errno));
+  remove_dead_staging(target);
+  if (::mkdir(staging.c_str(), 0777) != 0) cannot_create(flag, path, path, errno);
   folder.staging_ = staging.string();
+  errno = 0;
+  std::ofstream marker(staging / kStagingMarker);
+  marker << marker_text() << "\n";
+  marker.flush();
+  if (!marker) throw_write_error((staging / kStagingMarker).string(), errno);
   return folder;
 }
 
@@ -217,6 +310,7 @@ OutputFolder::~OutputFolder() {
 }
 
 void OutputFolder::commit() {
+  fs::remove(fs::path(staging_) / kStagingMarker);  // the folder is complete: no longer staging
   write_manifest(staging_, command_, files_under(staging_));
 
   // the destination may have changed while the command ran: ask again before replacing it

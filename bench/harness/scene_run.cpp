@@ -12,6 +12,7 @@
 #include "backends/backend.hpp"
 #include "bench/harness/frame_stream.hpp"
 #include "bench/harness/interrupt.hpp"
+#include "bench/harness/output_error.hpp"
 #include "bench/harness/output.hpp"
 #include "bench/harness/reference.hpp"
 #include "bench/harness/run.hpp"
@@ -51,7 +52,7 @@ class SampleWriter {
   bool finish() {
     if (rows_.is_open()) {
       rows_.close();
-      if (rows_.fail()) throw std::runtime_error("cannot write the metric rows of " + name_);
+      if (rows_.fail()) throw_write_error("the metric rows of " + name_, errno);
     }
     return !frames_ || frames_->close();
   }
@@ -177,6 +178,8 @@ BackendRun run_streamed(const Scene& scene, const Weave& weave, const std::strin
     writer.write(f, s);
   });
   if (!writer.finish() && !stream.empty()) {
+    // frames in the output folder are part of the output; a temporary stream only feeds exports
+    if (!options.folder.empty()) throw_write_error(stream, errno);
     std::fprintf(stderr, "chainmail: warning: cannot write the frames of %s\n", name.c_str());
     stream.clear();
   }

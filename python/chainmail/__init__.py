@@ -21,8 +21,8 @@ if not _os.environ.get("CHAINMAIL_DATA_DIR") and _os.path.isdir(
         _os.path.join(_prefix, "share", "chainmail", "scenes")):
     _os.environ["CHAINMAIL_DATA_DIR"] = _os.path.join(_prefix, "share", "chainmail")
 
-from ._chainmail import (SceneError, UsageError, Scene, Simulation, __version__,  # noqa: E402
-                         backends, load_scene, run)
+from ._chainmail import (SceneError, UsageError, OutputError, Scene,  # noqa: E402
+                         Simulation, __version__, backends, load_scene, run)
 try:
     from ._chainmail import render  # noqa: F401  (absent in a build without the renderer)
 except ImportError:
@@ -77,5 +77,5 @@ def _cell(text):
         return text
 
 
-__all__ = ["SceneError", "UsageError", "Scene", "Simulation", "backends", "load_scene", "run",
+__all__ = ["SceneError", "UsageError", "OutputError", "Scene", "Simulation", "backends", "load_scene", "run",
            "sweep", "render", "__version__"]

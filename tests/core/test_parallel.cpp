@@ -1,8 +1,18 @@
 // core/parallel.hpp: per-thread slots and cache-line-aligned arrays, the layout that keeps two
-// threads writing side by side off each other's cache lines.
+// threads writing side by side off each other's cache lines; the threads a step takes on a busy
+// machine.
 #include <gtest/gtest.h>
 
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
 #include <cstdint>
+#include <cstdlib>
+#include <string>
+#include <thread>
+#include <vector>
 
 #include "core/parallel.hpp"
 #include "core/types.hpp"
@@ -35,6 +45,47 @@ TEST(PerThread, SlotsSitOnCacheLinesOfTheirOwn) {
     EXPECT_NE(here / kLine, next / kLine);
     EXPECT_EQ(counts[k], static_cast<long long>(k) + 1);
   }
+}
+
+TEST(ThreadsForStep, OneThreadStaysOneAndNoneIsEverAdded) {
+  EXPECT_EQ(threads_for_step(1), 1);
+  EXPECT_EQ(threads_for_step(0), 1);
+  for (int k = 0; k < 5; ++k) {
+    const int threads = threads_for_step(8);
+    EXPECT_GE(threads, 1);
+    EXPECT_LE(threads, 8);
+  }
+}
+
+TEST(ThreadsForStep, FewerWhileOtherProcessesHoldEveryCore) {
+  const int cores = hardware_threads();
+  if (cores < 2) GTEST_SKIP() << "one core: nothing to share";
+  if (const char* adapt = std::getenv("CHAINMAIL_ADAPT_THREADS"); adapt && adapt == std::string("0"))
+    GTEST_SKIP() << "CHAINMAIL_ADAPT_THREADS=0";
+  // one spinning process per core (other processes: this process's own threads do not count)
+  std::vector<pid_t> children;
+  for (int k = 0; k < cores; ++k) {
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(3);
+      while (std::chrono::steady_clock::now() < end) {
+      }
+      _exit(0);
+    }
+    children.push_back(child);
+  }
+  // the windows are a tenth of a second: after half a second they all saw the load
+  int threads = cores;
+  for (int k = 0; k < 10; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(60));
+    threads = threads_for_step(cores);
+  }
+  for (const pid_t child : children) {
+    kill(child, SIGKILL);
+    waitpid(child, nullptr, 0);
+  }
+  EXPECT_LT(threads, cores);
 }
 
 }  // namespace
