@@ -66,10 +66,11 @@ KNOBS = {
     ],
     "massspring": [
         ("dt", "number", 1e-7, 0.1),
-        ("substeps", "integer", 1, 1000),
+        ("substeps", "integer", 0, 1000),
         ("ks", "number", 0.0, 1e9),
         ("shear_ks", "number", 0.0, 1e9),
         ("bend_ks", "number", 0.0, 1e9),
+        ("stretch", "number", 1e-6, 10.0),
         ("damping_percent", "number", 0.0, 100.0),
         ("correction_passes", "integer", 0, 10000),
         ("max_extension", "number", 0.0, 10.0),
