@@ -88,6 +88,7 @@ KNOBS = {
         ("length_scale", "number", 1e-3, 1e6),
         ("split_impulse", "boolean", 0, 1),
         ("contact_processing_threshold", "number", 0.0, 1e3),
+        ("friction_directions", "integer", 1, 2),
     ],
     "ode": [
         ("dt", "number", 1e-7, 1.0),
