@@ -33,6 +33,10 @@ struct BulletSettings {
   double length_scale = 1000.0;               // internal units per metre
   bool split_impulse = true;                  // resolve penetration apart from velocity
   double contact_processing_threshold = 1.0;  // m; points separated by more are kept, not solved
+  // friction rows per contact, each clamped to mu times the normal impulse on its own: 2 is a
+  // pyramid; 1 (along the sliding velocity) bounds a slide as Coulomb's cone does but holds a
+  // contact at rest along that one direction only
+  int friction_directions = 2;
 };
 
 // every knob once, bound to its BulletSettings field (the field's default is the knob's)
@@ -55,6 +59,9 @@ const KnobTable<BulletSettings>& bullet_knobs() {
     t.boolean("split_impulse", &S::split_impulse, "resolve penetration without adding velocity");
     t.number("contact_processing_threshold", &S::contact_processing_threshold, 0.0, 1e3,
              "contact points separated by more than this are kept but not solved, m");
+    t.integer("friction_directions", &S::friction_directions, 1, 2,
+              "friction directions per contact, each up to mu times the normal impulse (2: a "
+              "pyramid; 1: along the sliding velocity only)");
     return t;
   }();
   return table;
@@ -251,7 +258,8 @@ void BulletBackend::build_world() {
   btContactSolverInfo& info = world_->getSolverInfo();
   info.m_numIterations = settings_.solver_iterations;
   info.m_splitImpulse = settings_.split_impulse ? 1 : 0;
-  info.m_solverMode = SOLVER_USE_WARMSTARTING | SOLVER_SIMD | SOLVER_USE_2_FRICTION_DIRECTIONS;
+  info.m_solverMode = SOLVER_USE_WARMSTARTING | SOLVER_SIMD |
+                      (settings_.friction_directions > 1 ? SOLVER_USE_2_FRICTION_DIRECTIONS : 0);
 
   // the scene's friction and restitution per contact kind (process-wide hooks, stateless)
   gCalculateCombinedFrictionCallback = &combined_friction;

@@ -10,7 +10,7 @@ namespace {
 
 // the model's settings plus the adapter's own: the struct the knob table binds
 struct MassSpringKnobs : massspring::Settings {
-  int substeps = 1;  // Verlet steps per dt
+  int substeps = 0;  // Verlet steps per dt; 0 = the fewest that keep the springs stable
 };
 
 // every knob once, bound to its field (the field's default is the knob's); thickness 0 and the
@@ -20,10 +20,16 @@ const KnobTable<MassSpringKnobs>& massspring_knobs() {
   static const KnobTable<MassSpringKnobs> table = [] {
     KnobTable<MassSpringKnobs> t;
     t.time_step(1.0 / 2700.0, 1e-7, 0.1, "time step, s (90 frames/s x 30 steps)");
-    t.integer("substeps", &MassSpringKnobs::substeps, 1, 1000, "Verlet steps per dt");
-    t.number("ks", &S::ks, 0.0, 1e9, "structural spring constant, N/m");
-    t.number("shear_ks", &S::shear_ks, 0.0, 1e9, "shear spring constant, N/m");
-    t.number("bend_ks", &S::bend_ks, 0.0, 1e9, "bending spring constant, N/m");
+    t.integer("substeps", &MassSpringKnobs::substeps, 0, 1000,
+              "Verlet steps per dt (0 = the fewest that keep the springs stable)");
+    t.number("ks", &S::ks, 0.0, 1e9,
+             "structural spring constant, N/m (0 = derived: the sheet stretches `stretch` under "
+             "its own weight)");
+    t.number("shear_ks", &S::shear_ks, 0.0, 1e9, "shear spring constant, N/m (0 = 0.02 ks)");
+    t.number("bend_ks", &S::bend_ks, 0.0, 1e9, "bending spring constant, N/m (0 = 0.02 ks)");
+    t.number("stretch", &S::stretch, 1e-6, 10.0,
+             "the derived ks: stretch of a column as long as the sheet under its own weight, "
+             "fraction of its length");
     t.number("damping_percent", &S::damping_percent, 0.0, 100.0,
              "Verlet damping, percent per 1/2700 s (the document's step) of motion other than "
              "rigid");
@@ -33,6 +39,9 @@ const KnobTable<MassSpringKnobs>& massspring_knobs() {
               "over-extension correction passes per step (0 = off)");
     t.number("max_extension", &S::max_extension, 0.0, 10.0,
              "largest spring extension, fraction of rest");
+    t.boolean("correct_all", &S::correct_all,
+              "the over-extension correction holds every spring, as the document does (false: "
+              "the structural springs only, so that the sheet shears freely)");
     t.number("thickness", &S::thickness, 0.0, 10.0,
              "self-collision distance, m (0 = the ring's wire thickness 2a)");
     t.number("areal_density", &S::areal_density, 0.0, 1e6,
@@ -65,10 +74,11 @@ class MassSpringBackend final : public Backend {
     weave_ = weave;
     model_ = massspring::make_model(scene, weave_, settings_from(scene, weave_, settings));
     state_ = massspring::make_state(model_, weave_.rest_position);
-    substeps_ = settings.substeps;
     // the scene's initial velocity, as Verlet holds it: the previous position one step back (of
     // the dt knob, the step the harness takes)
-    const double h = knob_value(knobs, "dt") / substeps_;
+    const double dt = knob_value(knobs, "dt");
+    substeps_ = settings.substeps > 0 ? settings.substeps : massspring::stable_substeps(model_, dt);
+    const double h = dt / substeps_;
     for (int m = 0; m < state_.size(); ++m) {
       if (model_.inv_mass[m] > 0.0) state_.previous.col(m) -= h * scene.initial_velocity;
     }

@@ -223,18 +223,63 @@ void surface_orientations(const Positions& position, const Weave& weave,
   }
 }
 
-Model make_model(const Scene& scene, const Weave& weave, const Settings& settings) {
+Settings derive_stiffness(const Settings& settings, const Weave& weave, double mass,
+                          double gravity) {
+  Settings s = settings;
+  if (s.ks <= 0.0) {
+    const GridLookup lookup(weave);
+    const Positions& rest = weave.rest_position;
+    double length = 0.0;
+    int count = 0;
+    for (int m = 0; m < weave.size(); ++m) {
+      const auto [i, j] = weave.grid[m];
+      for (const int b : {lookup.at(i + 1, j), lookup.at(i, j + 1)}) {
+        if (b < 0) continue;
+        length += (rest.col(b) - rest.col(m)).norm();
+        ++count;
+      }
+    }
+    if (count > 0 && length > 0.0 && s.stretch > 0.0) {
+      length /= count;
+      const Vec3 extent = rest.rowwise().maxCoeff() - rest.rowwise().minCoeff();
+      const double n = 1.0 + extent.maxCoeff() / length;
+      const double g = gravity > 0.0 ? gravity : 9.81;
+      s.ks = mass * g * n / (2.0 * s.stretch * length);
+    }
+  }
+  if (s.shear_ks <= 0.0) s.shear_ks = kShearFraction * s.ks;
+  if (s.bend_ks <= 0.0) s.bend_ks = kBendFraction * s.ks;
+  return s;
+}
+
+double highest_frequency(const Model& model) {
+  Eigen::VectorXd stiffness = Eigen::VectorXd::Zero(model.size());
+  for (const Spring& s : model.springs) {
+    stiffness[s.a] += s.k;
+    stiffness[s.b] += s.k;
+  }
+  double omega2 = 0.0;
+  for (int m = 0; m < model.size(); ++m) {
+    omega2 = std::max(omega2, 2.0 * stiffness[m] * model.inv_mass[m]);
+  }
+  return std::sqrt(omega2);
+}
+
+int stable_substeps(const Model& model, double dt) {
+  const double steps = std::ceil(highest_frequency(model) * dt / kVerletReach);
+  return static_cast<int>(std::clamp(steps, 1.0, 1000.0));
+}
+
+Model make_model(const Scene& scene, const Weave& weave, const Settings& given) {
   Model model;
-  model.settings = settings;
   model.gravity = scene.gravity;
   model.colliders = scene.colliders;
-  model.springs = build_springs(weave, weave.rest_position, settings);
 
   // mass per point: areal density x rest area per mass, else the given point mass
   const int n = weave.size();
-  double m = settings.point_mass;
-  if (settings.areal_density > 0.0)
-    m = settings.areal_density * area_per_mass(weave, weave.rest_position);
+  double m = given.point_mass;
+  if (given.areal_density > 0.0)
+    m = given.areal_density * area_per_mass(weave, weave.rest_position);
   if (!(m > 0.0) || !std::isfinite(m)) {
     throw std::invalid_argument(
         "massspring: mass per point is not positive (areal density needs a sheet with area)");
@@ -250,6 +295,11 @@ Model make_model(const Scene& scene, const Weave& weave, const Settings& setting
     model.inv_mass[ring] = 0.0;
   }
   model.rigid = rigid_freedom(weave.rest_position, model.inv_mass);
+  model.settings = derive_stiffness(given, weave, m, scene.gravity.norm());
+  model.springs = build_springs(weave, weave.rest_position, model.settings);
+  for (const Spring& s : model.springs) {
+    if (model.settings.correct_all || s.kind == SpringKind::structural) model.corrected.push_back(s);
+  }
   return model;
 }
 
@@ -300,7 +350,7 @@ void verlet_integrate(const Model& model, double dt, State& state) {
 int constrain(const Model& model, State& state) {
   int over = 0;
   for (int pass = 0; pass < model.settings.correction_passes; ++pass) {
-    over = correct_overextension(model.springs, model.inv_mass, model.settings.max_extension,
+    over = correct_overextension(model.corrected, model.inv_mass, model.settings.max_extension,
                                  state.position);
     if (over == 0) break;  // nothing left to correct
   }
@@ -397,7 +447,7 @@ void step(const Model& model, State& state, double dt, StageProfile& profile) {
     auto scope = profile.scope("integrate");
     verlet_integrate(model, dt, state);
   }
-  if (model.settings.correction_passes > 0 && !model.springs.empty()) {
+  if (model.settings.correction_passes > 0 && !model.corrected.empty()) {
     auto scope = profile.scope("constrain");
     constrain(model, state);
   }

@@ -31,17 +31,32 @@ struct Spring {
   SpringKind kind = SpringKind::structural;
 };
 
+// the derived stiffnesses (derive_stiffness): shear and bending as fractions of the structural
+// constant, soft as a game cloth sets them (chainmail, like cloth, shears almost freely)
+inline constexpr double kShearFraction = 0.02;
+inline constexpr double kBendFraction = 0.02;
+// the substeps derived for a step (stable_substeps) keep omega_max h at most this; Verlet is
+// stable below 2, and omega_max is an upper bound
+inline constexpr double kVerletReach = 1.0;
+
 struct Settings {
-  double ks = 5000.0;        // structural spring constant, N/m
-  double shear_ks = 5000.0;  // N/m
-  double bend_ks = 1000.0;   // N/m
+  // spring constants, N/m; 0 = derived from the sheet (derive_stiffness)
+  double ks = 0.0;        // structural
+  double shear_ks = 0.0;  // 0: kShearFraction ks
+  double bend_ks = 0.0;   // 0: kBendFraction ks
+  // the derived ks: a column as long as the sheet, hung from its top, stretches this fraction
+  // of its length under its own weight
+  double stretch = 0.03;
   // d: x_new = x + (x - x_prev) - (1 - keep)(x - x_prev - rigid) + a dt^2, keep = (1 - d/100)
   // per damping_interval; rigid is the step's rigid motion of the whole (damp_rigid: none)
-  double damping_percent = 0.2;
+  double damping_percent = 1.0;
   double damping_interval = 1.0 / 2700.0;  // s, the document's step (90 frames/s x 30 steps)
   bool damp_rigid = false;                 // damp all motion, as the document does
   int correction_passes = 1;               // over-extension passes per step (the document uses one)
   double max_extension = 0.1;              // springs are kept within (1 + max_extension) rest
+  // the correction holds every spring, as the document does; off: the structural springs only,
+  // so that the sheet shears as freely as its soft shear springs let it
+  bool correct_all = false;
   bool self_collision = false;             // the self_collide stage runs only when set
   double thickness = 0.0;                  // m; no two masses closer than this (self-collision)
   int self_collision_passes = 16;    // most projection sweeps over the candidate pairs per step
@@ -54,6 +69,7 @@ struct Settings {
 
 struct Model {
   std::vector<Spring> springs;       // (m)
+  std::vector<Spring> corrected;     // the springs the over-extension correction holds
   Eigen::VectorXd mass;              // (n) kg
   Eigen::VectorXd inv_mass;          // (n) 1/kg; 0 for pinned masses
   std::vector<std::uint8_t> pinned;  // (n) 1 = never moves
@@ -119,6 +135,20 @@ void surface_orientations(const Positions& position, const Weave& weave,
 // +1 / -1 per ring: whether the neighbour-vector normal of the rest layout already points along
 // weave.normal_axis
 std::vector<std::int8_t> normal_signs(const Weave& weave);
+
+// ks = m g n / (2 stretch L): a column of n masses m spaced L, hung from its top, stretches by
+// the fraction `stretch` of its length (the spring below mass k carries k m g). L is the mean rest
+// length of the structural springs, n = 1 + D / L with D the largest side of the rest layout's
+// bounding box, g = |gravity| (9.81 m/s^2 without gravity). Fills ks, then shear_ks and bend_ks,
+// where they are 0; the others are returned as given.
+Settings derive_stiffness(const Settings& settings, const Weave& weave, double mass,
+                          double gravity);
+
+// an upper bound of the springs' highest angular frequency, rad/s: Gershgorin's bound
+// max_i 2 sum_(springs at i) k / m_i of the free masses' stiffness matrix at rest
+double highest_frequency(const Model& model);
+// the fewest Verlet steps per dt that keep highest_frequency(model) h within kVerletReach
+int stable_substeps(const Model& model, double dt);
 
 // --- model and step ----------------------------------------------------------------------------
 

@@ -152,10 +152,29 @@ Mesh box_mesh() {
   return mesh;
 }
 
+std::vector<double> ring_strain(const RingFrame& frame, const Weave& weave) {
+  const int n = std::min(frame.size(), weave.size());
+  std::vector<double> strain(n, 0.0);
+  for (int ring = 0; ring < n; ++ring) {
+    double sum = 0.0;
+    int count = 0;
+    for (const int other : weave.neighbours[ring]) {
+      if (other < 0 || other >= n) continue;
+      const double rest = (weave.rest_position.col(other) - weave.rest_position.col(ring)).norm();
+      const double now = (frame.position.col(other) - frame.position.col(ring)).norm();
+      if (!(rest > 0.0) || !std::isfinite(now)) continue;
+      sum += now / rest - 1.0;
+      ++count;
+    }
+    strain[ring] = count > 0 ? sum / count : 0.0;
+  }
+  return strain;
+}
+
 Mesh cloth_mesh(const RingFrame& frame, const Weave& weave, int subdivisions,
                 const Vector3d& origin) {
   Mesh mesh;
-  mesh.stride = 8;
+  mesh.stride = 9;
   const int n = std::min(frame.size(), weave.size());
   const int s = std::max(subdivisions, 1);
 
@@ -186,6 +205,7 @@ Mesh cloth_mesh(const RingFrame& frame, const Weave& weave, int subdivisions,
     normal = normal.norm() > 0 ? normal.normalized() : Vector3d::UnitY();
   }
 
+  const std::vector<double> strain = ring_strain(frame, weave);
   // each quad becomes s x s bilinear quads (s = 1: the plain ring-centre mesh)
   for (const auto& q : quads) {
     const auto first = static_cast<std::uint32_t>(mesh.vertex_count());
@@ -194,17 +214,19 @@ Mesh cloth_mesh(const RingFrame& frame, const Weave& weave, int subdivisions,
         const double fx = static_cast<double>(x) / s, fy = static_cast<double>(y) / s;
         const double w[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), fx * fy, (1 - fx) * fy};
         Vector3d p = Vector3d::Zero(), nrm = Vector3d::Zero();
-        double ui = 0, uj = 0;
+        double ui = 0, uj = 0, e = 0;
         for (int k = 0; k < 4; ++k) {
           p += w[k] * frame.position.col(q[k]);
           nrm += w[k] * normals[q[k]];
           ui += w[k] * weave.grid[q[k]][0];
           uj += w[k] * weave.grid[q[k]][1];
+          e += w[k] * strain[q[k]];
         }
         push(mesh.vertices, p - origin);
         push(mesh.vertices, nrm.norm() > 0 ? nrm.normalized() : Vector3d::UnitY());
         mesh.vertices.push_back(static_cast<float>(ui));
         mesh.vertices.push_back(static_cast<float>(uj));
+        mesh.vertices.push_back(static_cast<float>(e));
       }
     }
     for (int y = 0; y < s; ++y) {

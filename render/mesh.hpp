@@ -27,9 +27,13 @@ Mesh torus_mesh(double wire_radius, double centre_radius, int segments_u, int se
 // the unit box [-1, 1]^3 (stride 6: position, outward face normal), counter-clockwise outside
 Mesh box_mesh();
 
+// each ring's strain: the mean over its grid neighbours of distance / rest distance - 1 (0 for a
+// ring with none); the cloth mesh carries it so that the shader can show where the sheet stretches
+std::vector<double> ring_strain(const RingFrame& frame, const Weave& weave);
+
 // the cloth path's mesh: ring centres joined into quads over the weave grid, per-vertex normals,
-// uv = grid (i, j); each quad split into subdivisions^2 quads (bilinear) for displacement.
-// Positions are relative to `origin`. Stride 8: position, normal, uv.
+// uv = grid (i, j) and ring_strain; each quad split into subdivisions^2 quads (bilinear) for
+// displacement. Positions are relative to `origin`. Stride 9: position, normal, uv, strain.
 Mesh cloth_mesh(const RingFrame& frame, const Weave& weave, int subdivisions,
                 const Eigen::Vector3d& origin);
 

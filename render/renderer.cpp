@@ -129,9 +129,10 @@ class GlRenderer final : public Renderer {
     attribute(1, 3, 10, 3);
     attribute(2, 4, 10, 6);
     make_mesh_array(cloth_vao_, cloth_vbo_, cloth_ibo_);
-    attribute(0, 3, 8, 0);
-    attribute(1, 3, 8, 3);
-    attribute(2, 2, 8, 6);
+    attribute(0, 3, 9, 0);
+    attribute(1, 3, 9, 3);
+    attribute(2, 2, 9, 6);
+    attribute(3, 1, 9, 8);
     gl_.BindVertexArray(0);
     check_gl(gl_, "creating vertex arrays");
   }

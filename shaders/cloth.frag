@@ -6,6 +6,7 @@
 in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_uv;
+in float v_strain;
 out vec4 frag_color;
 uniform int u_mode;
 uniform vec3 u_eye;
@@ -21,9 +22,16 @@ vec3 blinn_phong(vec3 albedo, vec3 n, vec3 v, float shininess) {
   return albedo * (0.12 + 0.7 * diffuse) + vec3(0.5) * specular;
 }
 
+// the material tinted by the local strain, so that the picture shows where the cloth stretches
+// (toward red, full at the 10 % over-extension limit) or is compressed (toward blue)
+vec3 strained(vec3 base) {
+  float s = clamp(v_strain / 0.1, -1.0, 1.0);
+  return s > 0.0 ? mix(base, vec3(0.85, 0.12, 0.04), s) : mix(base, vec3(0.08, 0.25, 0.85), -s);
+}
+
 // the ring texture's colour: metal on the wire, dark in the gaps (which texture modes discard)
 vec3 ring_albedo(float height) {
-  return height > 0.0 ? u_material * (0.45 + 0.55 * height) : vec3(0.06);
+  return height > 0.0 ? strained(u_material) * (0.45 + 0.55 * height) : vec3(0.06);
 }
 
 // bump mapping from screen-space derivatives (no tangents needed)
@@ -46,7 +54,7 @@ void main() {
   if ((u_mode == 1 || u_mode == 2) && height <= 0.0) discard;
   vec3 color;
   if (u_mode == 0) {
-    color = blinn_phong(u_material, n, v, 32.0);
+    color = blinn_phong(strained(u_material), n, v, 32.0);
   } else if (u_mode == 1) {
     color = blinn_phong(ring_albedo(height), n, v, 32.0);
   } else if (u_mode == 2) {

@@ -66,10 +66,11 @@ KNOBS = {
     ],
     "massspring": [
         ("dt", "number", 1e-7, 0.1),
-        ("substeps", "integer", 1, 1000),
+        ("substeps", "integer", 0, 1000),
         ("ks", "number", 0.0, 1e9),
         ("shear_ks", "number", 0.0, 1e9),
         ("bend_ks", "number", 0.0, 1e9),
+        ("stretch", "number", 1e-6, 10.0),
         ("damping_percent", "number", 0.0, 100.0),
         ("correction_passes", "integer", 0, 10000),
         ("max_extension", "number", 0.0, 10.0),
@@ -87,6 +88,7 @@ KNOBS = {
         ("length_scale", "number", 1e-3, 1e6),
         ("split_impulse", "boolean", 0, 1),
         ("contact_processing_threshold", "number", 0.0, 1e3),
+        ("friction_directions", "integer", 1, 2),
     ],
     "ode": [
         ("dt", "number", 1e-7, 1.0),

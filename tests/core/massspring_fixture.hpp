@@ -44,6 +44,7 @@ inline Settings settings_of(const Scene& scene) {
   s.damping_percent = value("damping_percent", s.damping_percent);
   s.correction_passes = static_cast<int>(value("correction_passes", s.correction_passes));
   s.max_extension = value("max_extension", s.max_extension);
+  s.correct_all = value("correct_all", s.correct_all ? 1.0 : 0.0) != 0.0;
   s.thickness = value("thickness", s.thickness);
   s.areal_density = value("areal_density", s.areal_density);
   s.self_collision = scene.self_contact;

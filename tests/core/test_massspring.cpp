@@ -151,6 +151,38 @@ TEST(MassSpring, VerletFreeFallIsGtSquaredOverTwoWithinOrderDt) {
   }
 }
 
+TEST(MassSpring, DerivedStiffnessStretchesAHangingColumnByTheAskedFraction) {
+  // a column of 12 masses, 1 cm apart, hung from its top: ks = m g n / (2 s L)
+  nlohmann::json doc = grid_document(12, 1, 0.01);
+  doc["weave"]["plane"] = "xy";
+  doc["pins"] = {{{"edge", "top"}}};
+  const Scene scene = scene_from_json(doc, "test.json");
+  Settings settings;
+  settings.point_mass = 0.001;
+  settings.damping_percent = 2.0;  // settles within the run
+  Sim sim(scene, settings);
+  EXPECT_NEAR(sim.model.settings.ks, 0.001 * 9.81 * 12.0 / (2.0 * 0.03 * 0.01), 1e-9);
+  EXPECT_NEAR(sim.model.settings.shear_ks, kShearFraction * sim.model.settings.ks, 1e-12);
+  EXPECT_NEAR(sim.model.settings.bend_ks, kBendFraction * sim.model.settings.ks, 1e-12);
+  // the derived substeps keep the springs' highest frequency within reach of the step
+  const int substeps = stable_substeps(sim.model, kDt);
+  EXPECT_LE(highest_frequency(sim.model) * kDt / substeps, kVerletReach);
+  sim.run(3 * 2700 * substeps, kDt / substeps);
+  const auto y = sim.state.position.row(1);
+  const double stretch = (y.maxCoeff() - y.minCoeff()) / (11 * 0.01) - 1.0;
+  // the bending springs along the column (k_b over twice the length, stretched twice as far)
+  // stiffen it by 4 kBendFraction
+  EXPECT_NEAR(stretch, 0.03 / (1.0 + 4.0 * kBendFraction), 0.001);
+  // twice the stretch asked, half the stiffness
+  settings.stretch = 0.06;
+  EXPECT_NEAR(Sim(scene, settings).model.settings.ks, 0.5 * sim.model.settings.ks, 1e-9);
+  // given constants are kept, and so are the substeps they need
+  settings.ks = 5000.0, settings.shear_ks = 5000.0, settings.bend_ks = 1000.0;
+  const Sim stiff(scene, settings);
+  EXPECT_EQ(stiff.model.settings.shear_ks, 5000.0);
+  EXPECT_GT(stable_substeps(stiff.model, kDt), substeps);
+}
+
 // --- the over-extension correction ---------------------------------------------------------------
 
 TEST(MassSpring, SinglePassCanLeaveASpringOverExtendedIteratedPassesFixIt) {
@@ -186,6 +218,7 @@ TEST(MassSpring, EnoughCorrectionPassesKeepEverySpringWithinTenPercent) {
   Settings settings;
   settings.ks = 20.0, settings.shear_ks = 20.0, settings.bend_ks = 5.0;
   settings.areal_density = 15.0;
+  settings.correct_all = true;  // the document's correction: every spring
   double worst[3] = {0.0, 0.0, 0.0};
   const int passes[3] = {0, 1, 400};
   for (int c = 0; c < 3; ++c) {
@@ -199,6 +232,21 @@ TEST(MassSpring, EnoughCorrectionPassesKeepEverySpringWithinTenPercent) {
   EXPECT_GT(worst[0], 1.5);               // no correction: far over
   EXPECT_GT(worst[1], 1.1 + 1e-3);        // one pass: some spring stays over
   EXPECT_LE(worst[2], 1.1 * (1 + 1e-6));  // iterated to convergence: none over
+  // the default correction holds the structural springs only: they stay within 10 %, the shear
+  // and bending springs stretch further
+  settings.correct_all = false;
+  Sim sheet(scene, settings);
+  double structural = 0.0, other = 0.0;
+  for (int k = 0; k < 810; ++k) {
+    sheet.run(1);
+    for (const Spring& s : sheet.model.springs) {
+      const Vec3 d = sheet.state.position.col(s.b) - sheet.state.position.col(s.a);
+      double& worst_of_kind = s.kind == SpringKind::structural ? structural : other;
+      worst_of_kind = std::max(worst_of_kind, d.norm() / s.rest);
+    }
+  }
+  EXPECT_LE(structural, 1.1 * (1 + 1e-6));
+  EXPECT_GT(other, 1.1 + 1e-3);
 }
 
 // --- pins, damping, determinism ------------------------------------------------------------------

@@ -91,7 +91,7 @@ TEST(RenderMesh, ClothMeshJoinsGridNeighboursIntoQuads) {
   frame.position = weave.rest_position;
   frame.orientation = weave.rest_orientation;
   const Mesh mesh = cloth_mesh(frame, weave, 1, Eigen::Vector3d::Zero());
-  EXPECT_EQ(mesh.stride, 8);
+  EXPECT_EQ(mesh.stride, 9);
   EXPECT_EQ(mesh.indices.size(), static_cast<size_t>((3 - 1) * (4 - 1) * 6));
   // a flat sheet: every normal is the sheet normal (either side)
   for (int k = 0; k < mesh.vertex_count(); ++k) {
@@ -104,6 +104,34 @@ TEST(RenderMesh, ClothMeshJoinsGridNeighboursIntoQuads) {
   frame.position(0, 0) = std::nan("");
   EXPECT_LT(cloth_mesh(frame, weave, 1, Eigen::Vector3d::Zero()).indices.size(),
             mesh.indices.size());
+}
+
+TEST(RenderMesh, ClothMeshCarriesEachRingsStrain) {
+  const Scene scene = grid_scene(3, 4);
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  RingFrame frame;
+  frame.resize(weave.size());
+  frame.orientation = weave.rest_orientation;
+  frame.position = weave.rest_position;
+  for (double e : ring_strain(frame, weave)) EXPECT_NEAR(e, 0.0, 1e-12);
+  // the sheet stretched by 5 % (then compressed by 5 %) about one ring: every vertex carries it
+  for (const double scale : {1.05, 0.95}) {
+    frame.position = weave.rest_position * scale;
+    frame.position.colwise() += Vec3(0.3, -0.2, 0.1);
+    for (double e : ring_strain(frame, weave)) EXPECT_NEAR(e, scale - 1.0, 1e-9);
+    const Mesh mesh = cloth_mesh(frame, weave, 2, Eigen::Vector3d::Zero());
+    for (int k = 0; k < mesh.vertex_count(); ++k) {
+      EXPECT_NEAR(mesh.vertices[static_cast<size_t>(k) * mesh.stride + 8], scale - 1.0, 1e-6);
+    }
+  }
+  // one ring pulled out of the sheet: it and its neighbours stretch, a far ring does not
+  frame.position = weave.rest_position;
+  frame.position.col(0) += 0.5 * scene.weave.spacing * weave.normal_axis;
+  const std::vector<double> strain = ring_strain(frame, weave);
+  EXPECT_GT(strain[0], 0.05);
+  EXPECT_GT(strain[weave.neighbours[0][1] >= 0 ? weave.neighbours[0][1] : weave.neighbours[0][0]],
+            0.0);
+  EXPECT_NEAR(strain[weave.size() - 1], 0.0, 1e-12);
 }
 
 }  // namespace
