@@ -193,7 +193,7 @@ std::string frame_script(const ReportFrames& frames, std::size_t k) {
   char number[32];
   for (int r = 0; r < frames.rings; ++r) {
     // integers: a micrometre on a metre-sized scene and 1e-4 of a quaternion are far below a
-    // ring's wire, and half the size of 7 significant digits (the bench keeps many frames)
+    // ring's wire, and 0.6 of the size of 7 significant digits (the bench keeps many frames)
     const double values[7] = {1e6 * frame.position(0, r),    1e6 * frame.position(1, r),
                               1e6 * frame.position(2, r),    1e4 * frame.orientation(0, r),
                               1e4 * frame.orientation(1, r), 1e4 * frame.orientation(2, r),
