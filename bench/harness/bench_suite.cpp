@@ -39,7 +39,8 @@ const BenchPlan& bench_plan() {
               {"curtain.json",
                {"weave.rows=16", "weave.cols=16", "duration=1.0", "camera.position=[0.03,0.31,0.2]",
                 "camera.target=[0,0.295,0]"},
-               quick_sheet},
+               quick_sheet,
+               /*frames=*/true},
               {"corner_hang.json", {"duration=1.0"}, quick_sheet},
               {"table_cloth.json",
                {"weave.rows=16", "weave.cols=16", "duration=1.0", "colliders.0.radius=0.03",
@@ -50,7 +51,8 @@ const BenchPlan& bench_plan() {
                {"weave.rows=16", "weave.cols=16", "duration=1.0", "colliders.0.radius=0.03",
                 "colliders.0.center=[0,0.12,0]", "camera.position=[0.07,0.19,0.17]",
                 "camera.target=[0,0.1,0]"},
-               quick_sheet},
+               quick_sheet,
+               /*frames=*/true},
               {"chain_catenary.json", {}, {"weave.cols=8", "duration=0.05"}},
               {"chain_pile.json",
                {"weave.cols=40", "duration=1.0"},
@@ -229,6 +231,7 @@ void run_scenes(const BenchRun& bench) {
     options.threads = bench.command.threads > 0 ? bench.command.threads : hardware_threads();
     options.folder = bench.out + "/" + scene.name;
     options.keep_stream = static_cast<bool>(bench.render);
+    options.frame_csv = step.frames;  // outside step(): the timing does not see it
     const SceneRun run = run_scene(scene, options);
     OutputOptions output;
     output.render = bench.render;
@@ -293,7 +296,10 @@ std::string bench_readme(double minutes) {
          "and false links, drape error against the reference backend, Cusick drape coefficient "
          "(table_cloth), catenary sag error (chain_catenary).\n"
          "- `<scene>/` — each scene's `summary.json`, `metrics.csv` (every sample), `table.md` and "
-         "`images/` (the final frame of every backend side by side, when rendering is available).\n"
+         "`images/` (the final frame of every backend side by side, when rendering is available); "
+         "`curtain/` and `sphere_drape/` keep `frames/` too, every sample of every backend.\n"
+         "- `index.html` — every table, plot and image here on one page, opened from disk, with "
+         "the curtain and the sphere drape in 3D (every backend side by side).\n"
          "- `scaling.md` / `scaling.csv` / `scaling.png` — the curtain at 16 to 256 rings a side: "
          "ms per step of plausible on 1 and 2 threads (median of 5 runs), speed-up, cost per ring "
          "per step, max_stretch and whether the final hash is the same on any thread count; the "

@@ -27,6 +27,8 @@ int bench_command(const BenchCommand& command);
 struct BenchStep {
   std::string file;
   std::vector<std::string> full, quick;
+  // keep its frames (frames/<backend>/NNNNN.csv) for the 3D view of the bench's page
+  bool frames = false;
 
   const std::vector<std::string>& overrides(bool quick_mode) const {
     return quick_mode ? quick : full;

@@ -45,8 +45,8 @@ void write_frames(const ReportInput& input, const fs::path& staging,
     for (std::size_t k = 0; k < frames.count; ++k) {
       char name[48];
       std::snprintf(name, sizeof name, "/%05zu.js", k);
-      const std::string relative = std::string(kAssets) + "/frames/" + frames.backend + name;
-      write_file_atomic((staging / relative).string(), frame_script(frames, k, input.rings));
+      const std::string relative = std::string(kAssets) + "/frames/" + frames.key + name;
+      write_file_atomic((staging / relative).string(), frame_script(frames, k));
       written.push_back(relative);
     }
   }

@@ -1,6 +1,7 @@
 #include "bench/harness/report_data.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -86,9 +87,10 @@ std::size_t frame_files(const fs::path& dir) {
   return count;
 }
 
-// frames/<backend>/ of a run: every folder a backend of the summary, holding one CSV per sample
+// frames/<backend>/ of a run: every folder a backend of the summary, holding one CSV per sample;
+// `prefix` names the run's folder under report/frames/ ("" for a run, "<scene>/" in a bench)
 std::vector<ReportFrames> run_frames(const fs::path& folder, const SavedRun& run,
-                                     const json& summary) {
+                                     const json& summary, const std::string& prefix) {
   std::vector<ReportFrames> result;
   const fs::path frames = folder / "frames";
   if (!fs::is_directory(frames)) return result;
@@ -110,24 +112,41 @@ std::vector<ReportFrames> run_frames(const fs::path& folder, const SavedRun& run
       throw UsageError(shown(dir.string()) + ": " + std::to_string(frame_files(dir)) +
                        " frame files, but summary.json has " + std::to_string(samples) +
                        " samples (frames do not match the summary)");
-    result.push_back({b.name, dir.string(), b.frames, b.times});
+    result.push_back({b.name, prefix + b.name, dir.string(), b.frames, b.times,
+                      static_cast<int>(run.weave.size())});
   }
   return result;
 }
 
-// a run folder: its summary and metrics read as `render` reads them, and its frames checked
-void read_run(const fs::path& folder, ReportInput& input) {
+// a run's frames, read as `render` reads them and checked, into `input`; returns what the page's
+// data hold of them (null when the run kept none)
+json read_run_frames(const fs::path& folder, const json& summary, const std::string& prefix,
+                     ReportInput& input) {
   const SavedRun run = read_saved_run(folder.string());
-  input.frames = run_frames(folder, run, input.data["files"]["summary.json"]);
-  input.rings = static_cast<int>(run.weave.size());
-  if (input.frames.empty()) return;
+  const std::vector<ReportFrames> frames = run_frames(folder, run, summary, prefix);
+  if (frames.empty()) return nullptr;
   json backends = json::object();
-  for (const ReportFrames& f : input.frames)
-    backends[f.backend] = {{"count", f.count}, {"times", f.times}};
-  input.data["frames"] = {{"rings", input.rings}, {"backends", backends}};
-  for (const ReportFrames& f : input.frames) {
-    for (std::size_t k = 0; k < f.count; ++k) frame_script(f, k, input.rings);  // checked now
+  for (const ReportFrames& f : frames) {
+    for (std::size_t k = 0; k < f.count; ++k) frame_script(f, k);  // checked now
+    backends[f.backend] = {{"count", f.count}, {"times", f.times}, {"key", f.key}};
   }
+  input.frames.insert(input.frames.end(), frames.begin(), frames.end());
+  return {{"rings", static_cast<int>(run.weave.size())}, {"backends", backends}};
+}
+
+// a bench's scene folders that kept frames (<scene>/frames/), by folder name
+void read_bench_frames(const fs::path& folder, ReportInput& input) {
+  json scenes = json::object();
+  for (const auto& [name, value] : input.data["files"].items()) {
+    const fs::path path(name);
+    if (path.filename() != "summary.json" || !value.is_object()) continue;
+    const std::string scene = path.parent_path().generic_string();
+    if (scene.empty() || scene.find('/') != std::string::npos) continue;  // sweep points etc.
+    if (!fs::is_directory(folder / scene / "frames")) continue;
+    json frames = read_run_frames(folder / scene, value, scene + "/", input);
+    if (!frames.is_null()) scenes[scene] = std::move(frames);
+  }
+  input.data["scene_frames"] = std::move(scenes);
 }
 
 bool has_scene_summary(const json& files) {
@@ -149,34 +168,39 @@ ReportInput read_report_input(const std::string& folder, const std::string& comm
   read_files(folder, input.data["files"], input.data["images"]);
   const json& files = input.data["files"];
   if (command == "run") {
-    read_run(folder, input);
+    // (a missing summary.json is named by read_saved_run)
+    input.data["frames"] = read_run_frames(folder, input.data["files"]["summary.json"], "", input);
   } else if (command == "sweep") {
     require_table(folder, files, "sweep.csv", "backend,");
   } else if (command == "stability") {
     require_table(folder, files, "stability.csv", "case,backend,");
   } else if (command == "bench" && !has_scene_summary(files)) {
     throw UsageError(shown(folder) + ": no <scene>/summary.json (not a folder bench wrote)");
+  } else if (command == "bench") {
+    read_bench_frames(folder, input);
   }
   return input;
 }
 
-std::string frame_script(const ReportFrames& frames, std::size_t k, int rings) {
+std::string frame_script(const ReportFrames& frames, std::size_t k) {
   char name[32];
   std::snprintf(name, sizeof name, "/%05zu.csv", k);
   RingFrame frame;
-  read_frame_csv(frames.folder + name, rings, frame);
-  std::string text = "chainmailFrame(" + json(frames.backend).dump() + "," + std::to_string(k) +
-                     "," + json(frames.times[k]).dump() + ",[";
-  text.reserve(text.size() + static_cast<std::size_t>(rings) * 7 * 12);
+  read_frame_csv(frames.folder + name, frames.rings, frame);
+  std::string text = "chainmailFrame(" + json(frames.key).dump() + "," + std::to_string(k) + "," +
+                     json(frames.times[k]).dump() + ",[";
+  text.reserve(text.size() + static_cast<std::size_t>(frames.rings) * 7 * 7);
   char number[32];
-  for (int r = 0; r < rings; ++r) {
-    const double values[7] = {frame.position(0, r),    frame.position(1, r),
-                              frame.position(2, r),    frame.orientation(0, r),
-                              frame.orientation(1, r), frame.orientation(2, r),
-                              frame.orientation(3, r)};
+  for (int r = 0; r < frames.rings; ++r) {
+    // integers: a micrometre on a metre-sized scene and 1e-4 of a quaternion are far below a
+    // ring's wire, and 0.6 of the size of 7 significant digits (the bench keeps many frames)
+    const double values[7] = {1e6 * frame.position(0, r),    1e6 * frame.position(1, r),
+                              1e6 * frame.position(2, r),    1e4 * frame.orientation(0, r),
+                              1e4 * frame.orientation(1, r), 1e4 * frame.orientation(2, r),
+                              1e4 * frame.orientation(3, r)};
     for (int c = 0; c < 7; ++c) {
-      // 7 digits: a micrometre on a metre-sized scene, far below a ring's wire
-      std::snprintf(number, sizeof number, r + c == 0 ? "%.7g" : ",%.7g", values[c]);
+      const double v = std::isfinite(values[c]) ? std::round(values[c]) + 0.0 : 0.0;
+      std::snprintf(number, sizeof number, r + c == 0 ? "%.0f" : ",%.0f", v);
       text += number;
     }
   }

@@ -209,6 +209,15 @@ TEST(Bench, QuickModeWritesEveryResultsFile) {
         "sphere_drape/summary.json"}) {
     EXPECT_TRUE(fs::exists(out / file)) << file;
   }
+  // the frames of the page's 3D views: every sample of the curtain and the sphere drape only
+  for (const char* scene : {"curtain", "sphere_drape"}) {
+    for (const char* backend : {"plausible", "massspring"}) {
+      const fs::path frames = out / scene / "frames" / backend;
+      EXPECT_TRUE(fs::exists(frames / "00000.csv")) << frames;
+      EXPECT_TRUE(fs::exists(frames / "00001.csv")) << frames;
+    }
+  }
+  EXPECT_FALSE(fs::exists(out / "corner_hang" / "frames"));
   EXPECT_EQ(count_lines(out / "timing.csv"), 1 + 6 * 2);  // six scenes, two backends
   // both backends are cheap: each row is the median of the quick bench's two runs, which ended on
   // the same state; no ODE run, so no cost relative to it

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """chainmail report: the page of a run (with and without frames), a sweep and a stability folder,
 opened in headless Chromium from file:// with the network off (--part page; skipped, status 77,
-without Chromium), and the bad folders it refuses with exit 2 and nothing written
-(--part bad-input)."""
+without Chromium), the page of a quick bench with its scenes' 3D views (--part bench, skipped
+likewise), and the bad folders it refuses with exit 2 and nothing written (--part bad-input)."""
 import argparse
 import base64
 import csv
@@ -129,14 +129,14 @@ MASKS = """(async (png, rects) => {
     return { drawn: drawn / (r.w * r.h), mask: cells.join('') };
   });
 })"""
-RECTS = """Array.from(document.querySelectorAll('.viewport')).map((v) => {
+RECTS = """Array.from(document.querySelectorAll(SELECTOR)).map((v) => {
   const r = v.getBoundingClientRect();
   return { x: Math.round(r.left) + 2, y: Math.round(r.top) + 2, w: Math.round(r.width) - 4,
            h: Math.round(r.height) - 4 }; })"""
 
 
-def masks(browser):
-    rects = browser.eval(RECTS)
+def masks(browser, selector=".viewport"):
+    rects = browser.eval(RECTS.replace("SELECTOR", json.dumps(selector)))
     png = base64.b64encode(browser.screenshot()).decode()
     return browser.eval(f"{MASKS}({json.dumps(png)}, {json.dumps(rects)})", timeout=120)
 
@@ -252,17 +252,87 @@ def page(exe, scene, tmp):
     return 0
 
 
+# the quick bench's sheets are 4 x 4 rings, three backends: every panel of a view on one screen
+BENCH_BACKENDS = "plausible,massspring,torus_xpbd"
+
+
+def bench_view(browser, folder, scene, view):
+    """one scene's 3D view of the bench page: started when scrolled to, a drawn panel per backend
+    that kept frames, the slider moving every panel to another frame"""
+    summary = json.load(open(os.path.join(folder, scene, "summary.json")))
+    stage = f"document.querySelector('#{view} .stage')"
+    browser.eval(f"document.getElementById('{view}').scrollIntoView()")
+    browser.wait_for(f"{stage} && {stage}.dataset.frame === '0'")
+    first = masks(browser, f"#{view} .viewport")
+    assert len(first) == len(summary["backends"]), f"{scene}: not one panel per backend"
+    assert all(p["drawn"] > 0.01 for p in first), f"{scene}: a blank 3D panel: {first}"
+    last = summary["backends"]["plausible"]["samples"] - 1
+    assert last > 0, f"{scene}: one sample, no slider to move"
+    browser.eval(f"(() => {{ const s = document.getElementById('frame-slider-{view[7:]}');"
+                 f" s.value = {last}; s.dispatchEvent(new Event('input')); }})()")
+    browser.wait_for(f"{stage}.dataset.frame === '{last}'")
+    assert browser.eval(f"Array.from(document.querySelectorAll('#{view} .panel')).every((p) => "
+                        f"p.dataset.frame === '{last}')"), f"{scene}: a panel stayed behind"
+    end = masks(browser, f"#{view} .viewport")
+    assert all(p["drawn"] > 0.01 for p in end), f"{scene}: a blank panel at the end"
+    moved = [differ(a, b) for a, b in zip(first, end)]
+    assert max(moved) > 0.02, f"{scene}: the slider did not change the drawn frame: {moved}"
+    rows = list(csv.DictReader(open(os.path.join(folder, scene, "metrics.csv"))))
+    for b in summary["backends"]:
+        shown = browser.eval(f"document.querySelector(\"#{view} .panel[data-backend='{b}'] "
+                             "td[data-metric='max_stretch']\").dataset.v")
+        assert shown == [r for r in rows if r["backend"] == b][last]["max_stretch"], (b, shown)
+    print(f"bench 3D view of {scene}: {len(first)} panels drawn "
+          f"({', '.join(format(p['drawn'], '.0%') for p in first)} covered), frame {last} "
+          f"changed {[round(m, 3) for m in moved]} of each panel's cells")
+
+
+def bench(exe, tmp):
+    binary = cdp_pipe.find_chromium()
+    if not binary:
+        print("SKIP: no chromium (apt-get install chromium) to open the report page")
+        return SKIP
+    folder = os.path.join(tmp, "bench")
+    chainmail(exe, "bench", "--quick", "--no-scaling", "--no-render", "--backends",
+              BENCH_BACKENDS, "--out", folder)
+    kept = sorted(s for s in os.listdir(folder) if os.path.isdir(os.path.join(folder, s, "frames"))
+                  and os.path.isfile(os.path.join(folder, s, "summary.json")))
+    assert kept, "the bench kept no frames"
+    for scene in kept:
+        for b in BENCH_BACKENDS.split(","):
+            assert os.path.isfile(os.path.join(folder, "report", "frames", scene, b, "00000.js"))
+    browser = cdp_pipe.Browser(binary)
+    try:
+        seconds = browser.open("file://" + folder + "/index.html")
+        browser.wait_for("document.body.dataset.ready === 'true'")
+        lazy = [u for u in browser.requests if "/report/frames/" in u or "three.min.js" in u]
+        assert not lazy, f"the bench page loaded 3D files before they were scrolled to: {lazy}"
+        views = browser.eval("Object.fromEntries(Array.from(document.querySelectorAll("
+                             "'div.view3d[id^=view3d-]')).map((v) => [v.closest('section')"
+                             ".querySelector('h2').textContent.split(' ')[1], v.id]))")
+        assert sorted(views) == kept, f"3D views {views}, frames kept by {kept}"
+        for scene in kept:
+            bench_view(browser, folder, scene, views[scene])
+        check_clean(browser, "bench page")
+    finally:
+        browser.close()
+    print(f"bench page: loaded in {seconds:.2f} s, no 3D file before its view was scrolled to")
+    return 0
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--chainmail", required=True)
     parser.add_argument("--scene", required=True)
-    parser.add_argument("--part", choices=("page", "bad-input"), required=True)
+    parser.add_argument("--part", choices=("page", "bench", "bad-input"), required=True)
     args = parser.parse_args()
     tmp = tempfile.mkdtemp(prefix="cm-report-")
     try:
         if args.part == "bad-input":
             bad_input(args.chainmail, args.scene, tmp)
             return 0
+        if args.part == "bench":
+            return bench(args.chainmail, tmp)
         return page(args.chainmail, args.scene, tmp)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
