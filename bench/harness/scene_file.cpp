@@ -361,6 +361,8 @@ void read_backend_sections(Scene& scene, const json& backends) {
         v = {KnobValue::Kind::integer, knob->get<double>()};  // beyond 2^53: rounded
       } else if (knob->is_number()) {
         v = {KnobValue::Kind::number, knob->get<double>()};
+      } else if (knob->is_string()) {
+        v = {KnobValue::Kind::string, 0.0, knob->get<std::string>()};
       } else {
         v = {KnobValue::Kind::other, 0.0};
       }
