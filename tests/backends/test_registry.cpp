@@ -311,9 +311,9 @@ BackendInfo still_backend(const std::string& name) {
   BackendInfo info;
   info.name = name;
   info.summary = "rings that never move";
-  info.knobs = {{"dt", KnobSpec::Type::number, 0.01, 1e-6, 1.0, "time step, s"},
-                {"stiffness", KnobSpec::Type::number, 1.0, 0.0, 10.0, "unused, N/m"},
-                {"passes", KnobSpec::Type::integer, 2, 1, 8, "unused"}};
+  info.knobs = {{"dt", KnobSpec::Type::number, 0.01, 1e-6, 1.0, "time step, s", {}},
+                {"stiffness", KnobSpec::Type::number, 1.0, 0.0, 10.0, "unused, N/m", {}},
+                {"passes", KnobSpec::Type::integer, 2, 1, 8, "unused", {}}};
   info.create = [] { return std::make_unique<StillBackend>(); };
   return info;
 }
@@ -395,7 +395,7 @@ TEST(RegisterBackend, RefusesTakenNamesAndBrokenKnobTablesLeavingTheRegistryAsIt
   EXPECT_EQ(broken([](BackendInfo& i) { i.knobs[2].max = 8.5; }),
             "knob 'passes': an integer knob needs integral min, max and default");
   EXPECT_EQ(broken([](BackendInfo& i) {
-              i.knobs.push_back({"on", KnobSpec::Type::boolean, 1.0, 0.0, 2.0, "a switch"});
+              i.knobs.push_back({"on", KnobSpec::Type::boolean, 1.0, 0.0, 2.0, "a switch", {}});
             }),
             "knob 'on': a boolean knob has range [0, 1] and default 0 or 1");
   const auto with_choice = [](std::vector<std::string> names, double max) {
