@@ -6,6 +6,7 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -14,16 +15,19 @@ namespace chainmail {
 
 // one tunable of a backend, as it appears under backends.<name> in the scene file
 struct KnobSpec {
-  enum class Type { number, integer, boolean };
+  // choice: one of the names in `choices`, written as the name, held in Knobs as its index
+  enum class Type { number, integer, boolean, choice };
   std::string name;
   Type type = Type::number;
   double default_value = 0.0;
   double min = 0.0;  // inclusive
   double max = 0.0;  // inclusive
   std::string help;
+  std::vector<std::string> choices;  // (choice) the names, in index order
 };
 
-// resolved knob values (booleans as 0/1), every spec'd knob present
+// resolved knob values (booleans as 0/1, choices as the index of the name), every spec'd knob
+// present
 using Knobs = std::map<std::string, double>;
 
 // the value of one resolved knob; throws std::out_of_range naming it when it is absent
@@ -31,6 +35,13 @@ inline double knob_value(const Knobs& knobs, const std::string& name) {
   const auto it = knobs.find(name);
   if (it == knobs.end()) throw std::out_of_range("knob '" + name + "' was not resolved");
   return it->second;
+}
+
+// the name a choice knob's resolved value (its index) stands for; throws std::out_of_range
+inline const std::string& choice_name(const KnobSpec& spec, double index) {
+  if (!(index >= 0.0 && index < static_cast<double>(spec.choices.size())))
+    throw std::out_of_range("knob '" + spec.name + "': no choice " + std::to_string(index));
+  return spec.choices[static_cast<std::size_t>(index)];
 }
 
 // A backend's knob table. Each knob is declared once, bound to a field of the settings struct S
@@ -41,6 +52,7 @@ inline double knob_value(const Knobs& knobs, const std::string& name) {
 //   t.time_step(0.004, 1e-6, 0.1, "time step, s");
 //   t.integer("iterations", &PlausibleSettings::iterations, 1, 100000, "sweeps per step");
 //   t.boolean("swivel", &PlausibleSettings::swivel, "swivel rings into the 4-in-1 pattern");
+//   t.choice("law", &Settings::law, {"cone", "pyramid"}, "friction law");  // an enum field
 //   info.knobs = t.specs();                         // in <name>_backend_info()
 //   const PlausibleSettings s = t.settings(knobs);  // in reset()
 //
@@ -52,23 +64,38 @@ template <class S>
 class KnobTable {
  public:
   KnobTable& time_step(double default_value, double min, double max, std::string help) {
-    return add({"dt", KnobSpec::Type::number, default_value, min, max, std::move(help)}, {});
+    return add({"dt", KnobSpec::Type::number, default_value, min, max, std::move(help), {}}, {});
   }
   KnobTable& number(std::string name, double S::*field, double min, double max,
                     std::string help) {
     const double value = S{}.*field;
-    return add({std::move(name), KnobSpec::Type::number, value, min, max, std::move(help)}, field);
+    return add({std::move(name), KnobSpec::Type::number, value, min, max, std::move(help), {}},
+               field);
   }
   KnobTable& integer(std::string name, int S::*field, int min, int max, std::string help) {
     const double value = S{}.*field;
     return add({std::move(name), KnobSpec::Type::integer, value, double(min), double(max),
-                std::move(help)},
+                std::move(help), {}},
                field);
   }
   KnobTable& boolean(std::string name, bool S::*field, std::string help) {
     const double value = S{}.*field ? 1.0 : 0.0;
-    return add({std::move(name), KnobSpec::Type::boolean, value, 0.0, 1.0, std::move(help)},
+    return add({std::move(name), KnobSpec::Type::boolean, value, 0.0, 1.0, std::move(help), {}},
                field);
+  }
+
+  // an enum field whose values 0, 1, ... are named by `names`
+  template <class E>
+  KnobTable& choice(std::string name, E S::*field, std::vector<std::string> names,
+                    std::string help) {
+    static_assert(std::is_enum_v<E>, "a choice knob fills an enum field");
+    const double value = static_cast<double>(S{}.*field);
+    const double last = static_cast<double>(names.size()) - 1.0;
+    Accessor access{[field](S& s, double v) { s.*field = static_cast<E>(static_cast<int>(v)); },
+                    [field](const S& s) { return static_cast<double>(s.*field); }};
+    return add({std::move(name), KnobSpec::Type::choice, value, 0.0, last, std::move(help),
+                std::move(names)},
+               std::move(access));
   }
 
   const std::vector<KnobSpec>& specs() const { return specs_; }
@@ -102,7 +129,12 @@ class KnobTable {
   }
 
  private:
-  using Field = std::variant<std::monostate, double S::*, int S::*, bool S::*>;
+  // an enum field, reached through its conversions to and from the index
+  struct Accessor {
+    std::function<void(S&, double)> set;
+    std::function<double(const S&)> get;
+  };
+  using Field = std::variant<std::monostate, double S::*, int S::*, bool S::*, Accessor>;
 
   struct Assign {
     S& settings;
@@ -111,6 +143,7 @@ class KnobTable {
     void operator()(double S::*f) const { settings.*f = value; }
     void operator()(int S::*f) const { settings.*f = static_cast<int>(value); }
     void operator()(bool S::*f) const { settings.*f = value != 0.0; }
+    void operator()(const Accessor& f) const { f.set(settings, value); }
   };
   struct Read {
     const S& settings;
@@ -118,11 +151,12 @@ class KnobTable {
     double operator()(double S::*f) const { return settings.*f; }
     double operator()(int S::*f) const { return settings.*f; }
     double operator()(bool S::*f) const { return settings.*f ? 1.0 : 0.0; }
+    double operator()(const Accessor& f) const { return f.get(settings); }
   };
 
   KnobTable& add(KnobSpec spec, Field field) {
     specs_.push_back(std::move(spec));
-    fields_.push_back(field);
+    fields_.push_back(std::move(field));
     return *this;
   }
 

@@ -77,7 +77,33 @@ void check_kind(const KnobSpec& spec, const KnobValue& given, const std::string&
         throw SceneError(key + ": must be a number");
       }
       break;
+    case KnobSpec::Type::choice:
+      break;  // choice_index says what it must be
   }
+}
+
+// a user's text for a message: at most 40 bytes, control characters and non-ASCII as '?'
+std::string printable(const std::string& text) {
+  std::string out = text.substr(0, 40);
+  for (char& c : out)
+    if (c < 0x20 || c > 0x7e) c = '?';
+  return text.size() > 40 ? out + "..." : out;
+}
+
+// the index of a choice knob's given name; throws SceneError naming `key` and every name
+double choice_index(const KnobSpec& spec, const KnobValue& given, const std::string& key) {
+  if (given.kind == KnobValue::Kind::string) {
+    for (std::size_t k = 0; k < spec.choices.size(); ++k)
+      if (spec.choices[k] == given.text) return static_cast<double>(k);
+  }
+  std::string names;
+  for (const std::string& name : spec.choices)
+    names.append(names.empty() ? "\"" : ", \"").append(name).append("\"");
+  std::string got = "a number";
+  if (given.kind == KnobValue::Kind::string) got = "\"" + printable(given.text) + "\"";
+  if (given.kind == KnobValue::Kind::boolean) got = given.value != 0.0 ? "true" : "false";
+  if (given.kind == KnobValue::Kind::other) got = "another kind of value";
+  throw SceneError(key + ": must be one of " + names + ", got " + got);
 }
 
 }  // namespace
@@ -110,6 +136,17 @@ void check_new_name(const std::string& name) {
   }
 }
 
+// a choice knob: distinct plain-word names, range [0, names - 1], an integral default
+void check_choices(const std::string& backend, const KnobSpec& spec, bool integral) {
+  const std::string knob = "knob '" + spec.name + "': ";
+  const std::set<std::string> distinct(spec.choices.begin(), spec.choices.end());
+  if (spec.choices.empty() || distinct.size() != spec.choices.size() ||
+      !std::all_of(spec.choices.begin(), spec.choices.end(), plain_word))
+    refuse(backend, knob + "a choice knob needs distinct names, each a plain lowercase word");
+  if (spec.min != 0.0 || spec.max != double(spec.choices.size() - 1) || !integral)
+    refuse(backend, knob + "a choice knob has range [0, names - 1] and an integral default");
+}
+
 // the knob table rules every backend keeps (the registry's KnobTableContract tests)
 void check_new_knobs(const BackendInfo& info) {
   std::set<std::string> names;
@@ -126,6 +163,7 @@ void check_new_knobs(const BackendInfo& info) {
       refuse(info.name, knob + "an integer knob needs integral min, max and default");
     if (spec.type == KnobSpec::Type::boolean && (spec.min != 0.0 || spec.max != 1.0 || !integral))
       refuse(info.name, knob + "a boolean knob has range [0, 1] and default 0 or 1");
+    if (spec.type == KnobSpec::Type::choice) check_choices(info.name, spec, integral);
   }
   const KnobSpec* dt = find_knob(info, "dt");
   if (!dt || dt->type != KnobSpec::Type::number || !(dt->min > 0.0))
@@ -187,7 +225,8 @@ Knobs resolve_knobs(const Scene& scene, const BackendInfo& backend) {
       throw SceneError(key + ": unknown knob (known: " + join_names(knob_names(backend)) + ")");
     }
     check_kind(*spec, given, key);
-    const double value = given.value;
+    const double value =
+        spec->type == KnobSpec::Type::choice ? choice_index(*spec, given, key) : given.value;
     if (!std::isfinite(value) || value < spec->min || value > spec->max) {
       std::ostringstream msg;
       msg << key << ": must be in [" << spec->min << ", " << spec->max << "], got " << value;

@@ -23,9 +23,9 @@ const KnobTable<TorusXpbdSettings>& torus_xpbd_knobs() {
               "substep, the first two over every contact, the others over those near colliders");
     t.boolean("sleeping", &S::sleeping,
               "rings at rest are not integrated until a contact moves them");
-    t.boolean("friction_pyramid", &S::friction_pyramid,
-              "friction on two tangent axes, each up to the Coulomb bound, as Bullet and ODE "
-              "solve it (false: Coulomb's cone)");
+    t.choice("friction_law", &S::friction_law, {"cone", "pyramid"},
+             "cone: Coulomb's bound in every direction; pyramid: the bound on each of two "
+             "tangent axes, as Bullet and ODE solve it");
     return t;
   }();
   return table;

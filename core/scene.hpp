@@ -84,9 +84,10 @@ struct StabilityBounds {
 // one knob as the scene file gives it under backends.<backend>.<knob>; its kind and range are
 // checked against the backend's knob table by backends/registry
 struct KnobValue {
-  enum class Kind { number, integer, boolean, other };  // other: a string, array, object or null
+  enum class Kind { number, integer, boolean, string, other };  // other: array, object or null
   Kind kind = Kind::number;
-  double value = 0.0;  // booleans 0/1; other: 0
+  double value = 0.0;  // booleans 0/1; string, other: 0
+  std::string text;    // (string) as given: a choice knob's name
 };
 // knob name -> value, for one backend
 using KnobSection = std::map<std::string, KnobValue>;

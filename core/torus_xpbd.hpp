@@ -43,6 +43,11 @@
 
 namespace chainmail {
 
+// the bound on a contact's friction force: Coulomb's cone (friction times the normal force in
+// every direction), or the pyramid Bullet's two friction directions and ODE's dContactApprox1
+// solve (that bound on each of two tangent axes: up to sqrt 2 times more on the diagonals)
+enum class FrictionLaw { cone, pyramid };
+
 struct TorusXpbdSettings {
   int substeps = 25;         // constraint passes per step
   double friction = 1.0;     // factor on the scene's Coulomb coefficients (0: frictionless)
@@ -55,10 +60,7 @@ struct TorusXpbdSettings {
   // sheet on a table creeping off it at 3x the rigid references' rate (drape 2.8 mm from
   // Bullet's after 1 s), 8 settle it to 1.7 mm
   int velocity_iterations = 8;
-  // friction on two tangent axes, each up to friction times the normal force (the pyramid Bullet's
-  // two friction directions and ODE's dContactApprox1 solve: up to sqrt 2 times more on the
-  // diagonals), instead of Coulomb's cone
-  bool friction_pyramid = false;
+  FrictionLaw friction_law = FrictionLaw::cone;
 };
 
 // fixed model: built once from the scene

@@ -321,7 +321,7 @@ Vec3 TorusXpbdSim::static_friction(int a, const Vec3& arm_a, int b, const Vec3& 
     held = true;
     return -std::copysign(lambda_t, along) * tangent;
   };
-  if (model_.settings.friction_pyramid) {
+  if (model_.settings.friction_law == FrictionLaw::pyramid) {
     Vec3 t1, t2;
     tangent_axes(normal, t1, t2);
     return undo(t1, slip.dot(t1)) + undo(t2, slip.dot(t2));
@@ -412,7 +412,7 @@ void TorusXpbdSim::velocity_solve(double resting, double inv_h, int part, int k)
     spent += taken;
     impulse -= std::copysign(taken, speed) * tangent;
   };
-  if (contact.friction > 0.0 && model_.settings.friction_pyramid) {
+  if (contact.friction > 0.0 && model_.settings.friction_law == FrictionLaw::pyramid) {
     Vec3 t1, t2;
     tangent_axes(n, t1, t2);
     slow(t1, sliding.dot(t1), contact.spent[0]);

@@ -134,6 +134,20 @@ class Simulation {
   long long frame_steps_ = 0;  // the steps taken up to frame_
 };
 
+// the resolved knobs, a choice as its name (as a scene gives it)
+py::dict knobs_dict(const Simulation& sim) {
+  py::dict out;
+  const BackendInfo* info = find_backend(sim.backend());
+  for (const auto& [name, value] : sim.knobs()) {
+    const KnobSpec* spec = info ? find_knob(*info, name) : nullptr;
+    if (spec && spec->type == KnobSpec::Type::choice)
+      out[py::str(name)] = choice_name(*spec, value);
+    else
+      out[py::str(name)] = value;
+  }
+  return out;
+}
+
 // a read-only (rows, cols) view of a column-major (cols, rows) Eigen matrix: its columns are the
 // view's rows, so no copy is needed; `owner` keeps the memory alive
 template <class Matrix>
@@ -219,7 +233,7 @@ void add_simulation(py::module_& m) {
       .def_property_readonly("steps", &Simulation::steps)
       .def_property_readonly("hash", &Simulation::hash, "frame_hash of the current frame (hex)")
       .def_property_readonly("backend", &Simulation::backend)
-      .def_property_readonly("knobs", &Simulation::knobs)
+      .def_property_readonly("knobs", &knobs_dict)
       .def_property_readonly("dt", [](const Simulation& s) { return s.knobs().at("dt"); })
       .def_property_readonly("rings", [](const Simulation& s) { return s.frame().size(); })
       .def_property_readonly(

@@ -21,13 +21,16 @@ const char* type_name(KnobSpec::Type type) {
     case KnobSpec::Type::number: return "number";
     case KnobSpec::Type::integer: return "integer";
     case KnobSpec::Type::boolean: return "boolean";
+    case KnobSpec::Type::choice: return "choice";
   }
   return "";
 }
 
-// a knob's value in JSON as a scene file writes it: integers as integers, booleans as true/false
+// a knob's value in JSON as a scene file writes it: integers as integers, booleans as true/false,
+// choices as the name
 json knob_json(const KnobSpec& spec, double value) {
   if (spec.type == KnobSpec::Type::boolean) return value != 0.0;
+  if (spec.type == KnobSpec::Type::choice) return choice_name(spec, value);
   if (spec.type == KnobSpec::Type::integer) return static_cast<long long>(value);
   return value;
 }
@@ -37,7 +40,9 @@ json knob_entry(const KnobSpec& spec) {
                 {"type", type_name(spec.type)},
                 {"default", knob_json(spec, spec.default_value)},
                 {"help", spec.help}};
-  if (spec.type != KnobSpec::Type::boolean) {
+  if (spec.type == KnobSpec::Type::choice) {
+    entry["choices"] = spec.choices;
+  } else if (spec.type != KnobSpec::Type::boolean) {
     entry["min"] = knob_json(spec, spec.min);
     entry["max"] = knob_json(spec, spec.max);
   }
@@ -60,6 +65,7 @@ std::string short_number(double value) {
 
 std::string knob_value_text(const KnobSpec& spec, double value) {
   if (spec.type == KnobSpec::Type::boolean) return value != 0.0 ? "true" : "false";
+  if (spec.type == KnobSpec::Type::choice) return choice_name(spec, value);
   return short_number(value);
 }
 
@@ -67,7 +73,8 @@ std::string knob_value_text(const KnobSpec& spec, double value) {
 std::string knob_line(const KnobSpec& spec) {
   // appended piece by piece: GCC 12 misreads `"[" + text` as an overlapping copy
   std::string range;
-  if (spec.type != KnobSpec::Type::boolean)
+  for (const std::string& name : spec.choices) range.append(range.empty() ? "" : "|").append(name);
+  if (spec.type != KnobSpec::Type::boolean && spec.type != KnobSpec::Type::choice)
     range.append("[").append(short_number(spec.min)).append(", ").append(short_number(spec.max))
         .append("]");
   char line[256];

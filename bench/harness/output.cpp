@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "backends/backend.hpp"
 #include "bench/harness/frame_stream.hpp"
 #include "bench/harness/output_error.hpp"
 #include "bench/harness/scene_file.hpp"
@@ -102,7 +103,13 @@ nlohmann::json backend_entry(const BackendRun& b) {
   entry["final"] = b.started() ? metrics_json(b.final_metrics()) : nlohmann::json::object();
   if (b.catenary_error) entry["catenary_error"] = json_number(*b.catenary_error);
   nlohmann::json knobs = nlohmann::json::object();
-  for (const auto& [k, v] : b.knobs) knobs[k] = v;
+  const BackendInfo* info = find_backend(b.name);
+  for (const auto& [k, v] : b.knobs) {
+    const KnobSpec* spec = info ? find_knob(*info, k) : nullptr;
+    // a choice as its name, as the scene gives it
+    knobs[k] = spec && spec->type == KnobSpec::Type::choice ? nlohmann::json(choice_name(*spec, v))
+                                                             : nlohmann::json(v);
+  }
   entry["knobs"] = knobs;
   nlohmann::json stages = nlohmann::json::object();
   for (const auto& [stage, stats] : b.stages) {

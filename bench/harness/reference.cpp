@@ -119,7 +119,7 @@ std::string reference_backend(const Scene& scene, const RunOptions& options) {
 Scene reference_scene(const Scene& scene, const std::string& reference) {
   if (scene.reference_dt <= 0.0) return scene;
   Scene out = scene;
-  out.backends[reference]["dt"] = KnobValue{KnobValue::Kind::number, scene.reference_dt};
+  out.backends[reference]["dt"] = KnobValue{KnobValue::Kind::number, scene.reference_dt, {}};
   return out;
 }
 

@@ -356,13 +356,15 @@ void read_backend_sections(Scene& scene, const json& backends) {
     for (auto knob = it->begin(); knob != it->end(); ++knob) {
       KnobValue& v = section[knob.key()];
       if (knob->is_boolean()) {
-        v = {KnobValue::Kind::boolean, knob->get<bool>() ? 1.0 : 0.0};
+        v = {KnobValue::Kind::boolean, knob->get<bool>() ? 1.0 : 0.0, {}};
       } else if (knob->is_number_integer()) {
-        v = {KnobValue::Kind::integer, knob->get<double>()};  // beyond 2^53: rounded
+        v = {KnobValue::Kind::integer, knob->get<double>(), {}};  // beyond 2^53: rounded
       } else if (knob->is_number()) {
-        v = {KnobValue::Kind::number, knob->get<double>()};
+        v = {KnobValue::Kind::number, knob->get<double>(), {}};
+      } else if (knob->is_string()) {
+        v = {KnobValue::Kind::string, 0.0, knob->get<std::string>()};
       } else {
-        v = {KnobValue::Kind::other, 0.0};
+        v = {KnobValue::Kind::other, 0.0, {}};
       }
     }
   }

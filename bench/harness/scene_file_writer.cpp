@@ -100,9 +100,10 @@ json stability_json(const StabilityBounds& bounds) {
           {"energy_growth", bounds.energy_growth}};
 }
 
-// a knob in the form it was written: integers as integers, booleans as true/false. A value of
-// another kind (string, array, null) is kept only as its kind: written as null, which reads back
-// as the same kind (backends/registry refuses it either way)
+// a knob in the form it was written: integers as integers, booleans as true/false, strings (a
+// choice's name) as themselves. A value of another kind (array, object, null) is kept only as its
+// kind: written as null, which reads back as the same kind (backends/registry refuses it either
+// way)
 json knob_json(const KnobValue& knob) {
   switch (knob.kind) {
     case KnobValue::Kind::boolean:
@@ -113,6 +114,8 @@ json knob_json(const KnobValue& knob) {
       return knob.value;
     case KnobValue::Kind::number:
       return knob.value;
+    case KnobValue::Kind::string:
+      return knob.text;
     case KnobValue::Kind::other:
       return nullptr;
   }

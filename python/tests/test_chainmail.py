@@ -42,6 +42,18 @@ def test_scene_error_is_the_command_lines_message(curtain, binary):
     assert cli.stderr.strip() == "chainmail: " + str(error.value)
 
 
+def test_a_choice_knob_is_given_listed_and_read_back_by_name(curtain):
+    entries = {b["name"]: b for b in chainmail.backends()}
+    law = {k["name"]: k for k in entries["torus_xpbd"]["knobs"]}["friction_law"]
+    assert (law["type"], law["default"], law["choices"]) == ("choice", "cone", ["cone", "pyramid"])
+    scene = chainmail.load_scene(curtain, SMALL)
+    sim = chainmail.Simulation(scene, "torus_xpbd", knobs={"friction_law": "pyramid"})
+    assert sim.knobs["friction_law"] == "pyramid"
+    assert chainmail.Simulation(scene, "torus_xpbd").knobs["friction_law"] == "cone"
+    with pytest.raises(chainmail.SceneError, match='friction_law.*"cone", "pyramid"'):
+        chainmail.Simulation(scene, "torus_xpbd", knobs={"friction_law": "sphere"})
+
+
 def test_a_bad_knob_names_its_key(curtain):
     scene = chainmail.load_scene(curtain, SMALL)
     with pytest.raises(chainmail.SceneError, match="backends.plausible.dt"):

@@ -136,6 +136,13 @@ TEST_P(KnobTableContract, DeclaresDtAndDefaultsWithinRange) {
       EXPECT_EQ(spec.max, 1.0);
       EXPECT_TRUE(spec.default_value == 0.0 || spec.default_value == 1.0);
     }
+    if (spec.type == KnobSpec::Type::choice) {
+      EXPECT_EQ(spec.min, 0.0);
+      EXPECT_EQ(spec.max, double(spec.choices.size()) - 1.0);
+      EXPECT_TRUE(integral(spec.default_value));
+    } else {
+      EXPECT_TRUE(spec.choices.empty());
+    }
   }
 }
 
@@ -209,6 +216,7 @@ const char* type_name(KnobSpec::Type type) {
     case KnobSpec::Type::number: return "number";
     case KnobSpec::Type::integer: return "integer";
     case KnobSpec::Type::boolean: return "boolean";
+    case KnobSpec::Type::choice: return "choice";
   }
   return "";
 }
@@ -221,6 +229,14 @@ TEST_P(KnobTableContract, MatchesTheDocumentedTable) {
     SCOPED_TRACE(spec.name);
     EXPECT_EQ(rows[k].name, spec.name) << "in the same order";
     EXPECT_EQ(rows[k].type, type_name(spec.type));
+    if (spec.type == KnobSpec::Type::choice) {  // the default's name; the range: every name
+      EXPECT_EQ(rows[k].default_text, choice_name(spec, spec.default_value));
+      std::string names;
+      for (const std::string& name : spec.choices)
+        names.append(names.empty() ? "`" : ", `").append(name).append("`");
+      EXPECT_EQ(rows[k].range_text, names);
+      continue;
+    }
     EXPECT_EQ(documented_value(rows[k].default_text), spec.default_value);
     if (spec.type == KnobSpec::Type::boolean) continue;  // the range column is empty
     const std::string& range = rows[k].range_text;  // "[min, max] unit"
@@ -235,6 +251,35 @@ std::string backend_name(const ::testing::TestParamInfo<std::string>& info) { re
 
 INSTANTIATE_TEST_SUITE_P(Every, KnobTableContract, ::testing::ValuesIn(known_backend_names()),
                          backend_name);
+
+TEST(Registry, ReadsAChoiceKnobByItsNameAndRefusesAnyOtherValueListingTheNames) {
+  const BackendInfo& torus = *find_backend("torus_xpbd");
+  const KnobSpec& law = *find_knob(torus, "friction_law");
+  ASSERT_EQ(law.type, KnobSpec::Type::choice);
+  EXPECT_EQ(law.choices, (std::vector<std::string>{"cone", "pyramid"}));
+  EXPECT_EQ(resolve_knobs(scene_with(json::object()), torus).at("friction_law"), 0.0);
+  for (const std::string name : {"cone", "pyramid"}) {
+    const Knobs knobs = resolve_knobs(scene_with({{"torus_xpbd", {{"friction_law", name}}}}), torus);
+    EXPECT_EQ(choice_name(law, knobs.at("friction_law")), name);
+  }
+  const std::string key = "scene.json: key 'backends.torus_xpbd.friction_law': must be one of "
+                          "\"cone\", \"pyramid\", got ";
+  const std::vector<std::pair<json, std::string>> wrong = {
+      {"sphere", "\"sphere\""}, {"Cone", "\"Cone\""}, {"", "\"\""}, {1, "a number"},
+      {0.5, "a number"},        {true, "true"},        {json::array({"cone"}), "another kind of value"}};
+  for (const auto& [value, got] : wrong) {
+    SCOPED_TRACE(value.dump());
+    try {
+      validate_backend_knobs(scene_with({{"torus_xpbd", {{"friction_law", value}}}}));
+      FAIL() << "no error";
+    } catch (const SceneError& error) {
+      EXPECT_EQ(std::string(error.what()), key + got);
+    }
+  }
+  // a name where a number goes is refused as before
+  EXPECT_THROW(validate_backend_knobs(scene_with({{"torus_xpbd", {{"friction", "cone"}}}})),
+               SceneError);
+}
 
 // ---------------------------------------------------------------------------------------------
 // backends registered from outside the project
@@ -266,9 +311,9 @@ BackendInfo still_backend(const std::string& name) {
   BackendInfo info;
   info.name = name;
   info.summary = "rings that never move";
-  info.knobs = {{"dt", KnobSpec::Type::number, 0.01, 1e-6, 1.0, "time step, s"},
-                {"stiffness", KnobSpec::Type::number, 1.0, 0.0, 10.0, "unused, N/m"},
-                {"passes", KnobSpec::Type::integer, 2, 1, 8, "unused"}};
+  info.knobs = {{"dt", KnobSpec::Type::number, 0.01, 1e-6, 1.0, "time step, s", {}},
+                {"stiffness", KnobSpec::Type::number, 1.0, 0.0, 10.0, "unused, N/m", {}},
+                {"passes", KnobSpec::Type::integer, 2, 1, 8, "unused", {}}};
   info.create = [] { return std::make_unique<StillBackend>(); };
   return info;
 }
@@ -350,9 +395,21 @@ TEST(RegisterBackend, RefusesTakenNamesAndBrokenKnobTablesLeavingTheRegistryAsIt
   EXPECT_EQ(broken([](BackendInfo& i) { i.knobs[2].max = 8.5; }),
             "knob 'passes': an integer knob needs integral min, max and default");
   EXPECT_EQ(broken([](BackendInfo& i) {
-              i.knobs.push_back({"on", KnobSpec::Type::boolean, 1.0, 0.0, 2.0, "a switch"});
+              i.knobs.push_back({"on", KnobSpec::Type::boolean, 1.0, 0.0, 2.0, "a switch", {}});
             }),
             "knob 'on': a boolean knob has range [0, 1] and default 0 or 1");
+  const auto with_choice = [](std::vector<std::string> names, double max) {
+    return [names, max](BackendInfo& i) {
+      i.knobs.push_back({"law", KnobSpec::Type::choice, 0.0, 0.0, max, "a law", names});
+    };
+  };
+  const std::string bad_names =
+      "knob 'law': a choice knob needs distinct names, each a plain lowercase word";
+  EXPECT_EQ(broken(with_choice({}, -1.0)), "knob 'law': default outside [min, max]");
+  EXPECT_EQ(broken(with_choice({"cone", "cone"}, 1.0)), bad_names);
+  EXPECT_EQ(broken(with_choice({"cone", "Pyramid"}, 1.0)), bad_names);
+  EXPECT_EQ(broken(with_choice({"cone", "pyramid"}, 2.0)),
+            "knob 'law': a choice knob has range [0, names - 1] and an integral default");
   EXPECT_EQ(broken([](BackendInfo& i) { i.knobs[1].name = "Stiffness"; }),
             "knob 'Stiffness': not a plain lowercase word");
   EXPECT_EQ(broken([](BackendInfo& i) { i.create = nullptr; }), "create is empty");

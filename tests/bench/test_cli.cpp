@@ -127,6 +127,44 @@ TEST_F(Cli, BadOverrideAndBadFlagsExitTwo) {
   EXPECT_FALSE(fs::exists(out()));
 }
 
+// a 4 x 4 sheet of torus_xpbd dropped on a round table, as table_cloth's is
+TEST_F(Cli, FrictionLawIsAChoiceKnobSetByNameThatChangesTheRun) {
+  const std::string file = scene(
+      {{"weave", {{"plane", "xz"}, {"center", {0.0, 0.105, 0.0}}}},
+       {"pins", json::array()},
+       {"colliders", json::array({{{"type", "cylinder"}, {"center", {0.0, 0.05, 0.0}},
+                                   {"radius", 0.012}, {"half_height", 0.05}, {"friction", 0.4}}})},
+       {"duration", 0.1},
+       {"reference", "torus_xpbd"},
+       {"backends", {{"plausible", nullptr}, {"torus_xpbd", json::object()}}}});
+  const auto run = [&](const std::string& law, const std::string& folder) {
+    const std::string set = law.empty() ? "" : " --set backends.torus_xpbd.friction_law=" + law;
+    const Outcome outcome =
+        chainmail("run " + file + set + " --quiet --out " + (dir_ / folder).string() + cache());
+    EXPECT_EQ(outcome.status, 0) << outcome.output;
+    return json::parse(std::ifstream(dir_ / folder / "summary.json"))["backends"]["torus_xpbd"];
+  };
+  const json fallback = run("", "default"), cone = run("cone", "cone"),
+             pyramid = run("pyramid", "pyramid");
+  EXPECT_EQ(fallback["knobs"]["friction_law"], "cone");  // summary.json gives the name
+  EXPECT_EQ(pyramid["knobs"]["friction_law"], "pyramid");
+  EXPECT_EQ(cone["hash"], fallback["hash"]);
+  EXPECT_NE(pyramid["hash"], cone["hash"]);
+
+  // any other value: exit 2, one line naming the key and every name, nothing written
+  for (const std::string bad : {"sphere", "1", "true"}) {
+    const Outcome refused = chainmail("run " + file + " --set backends.torus_xpbd.friction_law=" +
+                                      bad + " --quiet --out " + out());
+    EXPECT_EQ(refused.status, 2) << bad;
+    EXPECT_EQ(lines(refused.output), 1) << refused.output;
+    EXPECT_NE(refused.output.find("key 'backends.torus_xpbd.friction_law': must be one of "
+                                  "\"cone\", \"pyramid\""),
+              std::string::npos)
+        << refused.output;
+  }
+  EXPECT_FALSE(fs::exists(out()));
+}
+
 TEST_F(Cli, UnstableRunExitsOneWithItsVerdictWritten) {
   // a time step far too large for stiff repulsion (Run.InjectedInstabilityIsReportedNotCrashed
   // says why it is max_speed): the run ends with that verdict, files written
@@ -333,6 +371,16 @@ TEST_F(Cli, BackendsListsEveryKnobWithItsTypeDefaultRangeAndHelp) {
       const json& knob = listed[k]["knobs"][n];
       EXPECT_EQ(knob["name"], spec.name);
       EXPECT_EQ(knob["help"], spec.help);
+      if (spec.type == KnobSpec::Type::choice) {  // the default by name, and every name
+        EXPECT_EQ(knob["type"], "choice");
+        EXPECT_EQ(knob["default"], choice_name(spec, spec.default_value)) << spec.name;
+        EXPECT_EQ(knob["choices"], json(spec.choices)) << spec.name;
+        EXPECT_FALSE(knob.contains("min")) << spec.name;
+        std::string names;
+        for (const std::string& name : spec.choices) names.append(names.empty() ? "" : "|") += name;
+        EXPECT_NE(text.output.find(" " + names + " "), std::string::npos) << spec.name;
+        continue;
+      }
       if (spec.type == KnobSpec::Type::boolean) {
         EXPECT_EQ(knob["type"], "boolean");
         EXPECT_EQ(knob["default"], spec.default_value != 0.0) << spec.name;

@@ -85,7 +85,7 @@ class FailingBackend final : public Backend {
 BackendInfo failing_backend_info() {
   BackendInfo info;
   info.name = "failing";
-  info.knobs = {{"dt", KnobSpec::Type::number, 0.01, 1e-5, 0.1, "time step, s"}};
+  info.knobs = {{"dt", KnobSpec::Type::number, 0.01, 1e-5, 0.1, "time step, s", {}}};
   info.create = [] { return std::make_unique<FailingBackend>(); };
   return info;
 }

@@ -104,6 +104,7 @@ void expect_same_scene(const Scene& a, const Scene& b) {
       ASSERT_TRUE(other.count(name)) << backend << "." << name;
       EXPECT_EQ(knob.kind, other.at(name).kind) << backend << "." << name;
       EXPECT_EQ(knob.value, other.at(name).value) << backend << "." << name;
+      EXPECT_EQ(knob.text, other.at(name).text) << backend << "." << name;
     }
   }
 }
@@ -150,11 +151,20 @@ TEST(SceneWriter, KnobSectionsAsWritten) {
   json doc = minimal_scene();
   doc["backends"] = {{"massspring", {{"substeps", 10}, {"ks", 500.0}, {"dt", 1e-3}}},
                      {"plausible", {{"swivel_fit", true}, {"iterations", -3}}},
-                     {"ode", json::object()}};
-  const json written = scene_to_json(scene_from_json(doc, "scene.json"));
+                     {"ode", json::object()},
+                     {"torus_xpbd", {{"friction_law", "pyramid"}}}};
+  const Scene scene = scene_from_json(doc, "scene.json");
+  const json written = scene_to_json(scene);
+  // a choice's name as given, and read back the same
   EXPECT_EQ(written["backends"].dump(),
             R"({"massspring":{"dt":0.001,"ks":500.0,"substeps":10},"ode":{},)"
-            R"("plausible":{"iterations":-3,"swivel_fit":true}})");
+            R"("plausible":{"iterations":-3,"swivel_fit":true},)"
+            R"("torus_xpbd":{"friction_law":"pyramid"}})");
+  const KnobValue& law = scene_from_json(written, "written.json").backends.at("torus_xpbd").at(
+      "friction_law");
+  EXPECT_EQ(law.kind, KnobValue::Kind::string);
+  EXPECT_EQ(law.text, "pyramid");
+  EXPECT_EQ(scene.backends.at("torus_xpbd").at("friction_law").text, "pyramid");
 }
 
 // values the reader transforms are written as given, so the written scene reads back bit for bit

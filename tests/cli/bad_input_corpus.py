@@ -48,7 +48,7 @@ NOBODY = 65534
 BACKENDS = ["plausible", "massspring", "bullet", "ode", "torus_xpbd"]
 OPTIONAL_BACKENDS = ["bullet", "ode"]  # a build may lack them
 
-# knob specs of backends/*_backend.cpp: name, type, min, max
+# knob specs of backends/*_backend.cpp: name, type, min, max (a choice: its names, None)
 KNOBS = {
     "plausible": [
         ("dt", "number", 1e-6, 0.1),
@@ -114,6 +114,7 @@ KNOBS = {
         ("compliance", "number", 0.0, 1e3),
         ("damping", "number", 0.0, 1e4),
         ("sleeping", "boolean", 0, 1),
+        ("friction_law", "choice", ["cone", "pyramid"], None),
     ],
 }
 
@@ -773,6 +774,10 @@ def knob_cases(cases, absent):
             elif kind == "integer":
                 variants = [("string", "4"), ("fraction", lo + 0.5), ("below", lo - 1),
                             ("above", hi + 1), ("2^32", N32), ("2^63", N63), ("2^64", N64)]
+            elif kind == "choice":
+                variants = [("unknown", "nosuch"), ("empty", ""), ("upper", lo[0].upper()),
+                            ("index", 0), ("bool", True), ("null", None), ("array", [lo[0]]),
+                            ("nul", lo[0] + "\u0000")]
             else:
                 variants = [("string", "true"), ("one", 1), ("null", None)]
             for variant, value in variants:

@@ -66,6 +66,9 @@ def strip_comments(text):
 # the schema's backend sections from the registry
 
 def knob_schema(knob):
+    if knob["type"] == "choice":  # one of the names, a JSON string
+        return {"type": "string", "enum": knob["choices"], "default": knob["default"],
+                "description": knob["help"]}
     node = {"type": knob["type"], "default": knob["default"]}
     if knob["type"] != "boolean":
         node["minimum"] = knob["min"]

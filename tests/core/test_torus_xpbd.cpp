@@ -103,7 +103,7 @@ TEST(TorusXpbd, FrictionConeSlidesWhereThePyramidHoldsOnTheDiagonal) {
       const Vec3 along = diagonal ? Vec3(1, 0, 1).normalized() : Vec3(1, 0, 0);
       document["gravity"] = {pull * along.x(), -g, pull * along.z()};
       TorusXpbdSettings settings;
-      settings.friction_pyramid = pyramid;
+      settings.friction_law = pyramid ? FrictionLaw::pyramid : FrictionLaw::cone;
       Sim run(document, settings, &flat);
       const Vec3 start = run.state().position[0];
       run.advance(t);
