@@ -2,7 +2,7 @@
 # Installs the Debian 12 packages chainmail needs; skips what is already installed.
 set -euo pipefail
 packages=(
-  build-essential cmake pkg-config
+  build-essential cmake pkg-config ccache
   libeigen3-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libbenchmark-dev
   libbullet-dev libode-dev

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """The repository's own documents hold together:
 
-- README.md and docs/*.md link only to files of the repository that exist (and to headings that
-  exist in them), never outside it;
+- README.md, CONTRIBUTING.md and docs/*.md link only to files of the repository that exist (and
+  to headings that exist in them), never outside it;
 - no text names a document the repository does not have (DESIGN.md);
 - LICENSE is the MIT licence; CITATION.cff names the paper and this version
   (`chainmail --version`);
@@ -27,7 +27,7 @@ def slug(heading):
 
 
 def check_links(errors):
-    pages = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+    pages = [ROOT / "README.md", ROOT / "CONTRIBUTING.md", *sorted((ROOT / "docs").glob("*.md"))]
     for page in pages:
         for target in LINK.findall(page.read_text()):
             where = f"{page.relative_to(ROOT)}: link {target}"
