@@ -1,6 +1,7 @@
 // Adapter: rings as rigid tori with exact torus-torus contact in XPBD (core/torus_xpbd.hpp)
 // behind the Backend interface.
 #include "backends/backend.hpp"
+#include "core/parallel.hpp"
 #include "core/torus_xpbd.hpp"
 
 namespace chainmail {
@@ -34,11 +35,13 @@ const KnobTable<TorusXpbdSettings>& torus_xpbd_knobs() {
 class TorusXpbdBackend final : public Backend {
  public:
   const char* name() const override { return "torus_xpbd"; }
-  void set_threads(int threads) override { sim_.set_threads(threads); }
+  void set_threads(int threads) override { threads_ = threads; }
   void reset(const Scene& scene, const Weave& weave, const Knobs& knobs) override {
     sim_.reset(scene, weave, torus_xpbd_knobs().settings(knobs));
   }
   StepStatus step(double dt) override {
+    // a team waits for a core at each of a substep's barriers: no more threads than are free
+    sim_.set_threads(threads_for_step(threads_));
     return sim_.step(dt) ? StepStatus::ok : StepStatus::non_finite;
   }
   void frame(RingFrame& out) const override { sim_.frame(out); }
@@ -46,6 +49,7 @@ class TorusXpbdBackend final : public Backend {
 
  private:
   TorusXpbdSim sim_;
+  int threads_ = 1;  // asked for; each step uses those the machine leaves free
 };
 
 }  // namespace
