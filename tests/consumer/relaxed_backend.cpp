@@ -12,11 +12,7 @@ using chainmail::PlausibleSettings;
 
 // the model's settings with this backend's defaults (the knob table reads them from S{})
 struct RelaxedSettings : PlausibleSettings {
-  RelaxedSettings() {
-    iterations = 50;
-    damping = 2.0;
-    shock_propagation = false;
-  }
+  RelaxedSettings() { damping = 2.0; }
 };
 
 const chainmail::KnobTable<RelaxedSettings>& relaxed_knobs() {
@@ -54,7 +50,7 @@ class RelaxedBackend final : public chainmail::Backend {
 void register_relaxed_backend() {
   chainmail::BackendInfo info;
   info.name = "relaxed";
-  info.summary = "the plausible model with 50 sweeps and light drag (registered from outside)";
+  info.summary = "the plausible model with light drag (registered from outside)";
   info.knobs = relaxed_knobs().specs();
   info.knob_round_trip = relaxed_knobs().round_trip();
   info.cost_us_per_ring_step = 1.0;
