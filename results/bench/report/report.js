@@ -92,7 +92,12 @@
     if (files[prefix + 'metrics.csv']) children.push(timePlot(files[prefix + 'metrics.csv'], `time-${anchor}`));
     children.push(...images(prefix));
     const folder = prefix.slice(0, -1);
+    // a bench scene that kept frames: its 3D view, started when scrolled to
+    const F = R.kind === 'bench' && R.scene_frames && R.scene_frames[folder];
+    const view = F ? el('div', { class: 'view3d', id: `view3d-${anchor}` }) : null;
+    if (view) children.push(el('h3', { text: '3D view of every backend' }), view);
     section(anchor, `scene ${scene.name}` + (folder && folder !== scene.name ? ` (${folder})` : ''), ...children);
+    if (view) window.chainmailView.mount(view, summary, F, parseCSV(files[prefix + 'metrics.csv'] || ''), `-${anchor}`, true);
   }
 
   function sweepSection(path, anchor) {
@@ -159,7 +164,7 @@
         'no 3D view: run it again with --frames --report to see the backends side by side in 3D.' }));
       return;
     }
-    window.chainmailView.mount(s, R, parseCSV(files['metrics.csv'] || ''));
+    window.chainmailView.mount(s, files['summary.json'], R.frames, parseCSV(files['metrics.csv'] || ''), '', false);
   }
 
   if (!R) {

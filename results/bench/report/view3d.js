@@ -1,17 +1,20 @@
 // The 3D view: one panel per backend, one shared camera (so the views stay linked), one time
 // slider and play button for all of them. Rings are one instanced torus per backend; each frame
-// is a script of report/frames/ loaded the first time it is shown.
+// is a script of report/frames/ loaded the first time it is shown. A bench's page holds one view
+// per scene that kept frames, each started when it first scrolls into sight.
 'use strict';
 window.chainmailView = (function () {
   const { el, colour, fmt } = window.cm;
   const SHOWN = ['max_stretch', 'mean_stretch', 'penetrating_linked', 'penetrating_other',
     'broken_links', 'false_links', 'drape_rms', 'kinetic_energy', 'max_speed'];
-  const frames = {};    // backend -> k -> Float32Array (x y z qw qx qy qz per ring)
+  const frames = {};    // key (backend, or scene/backend) -> k -> Float32Array (x y z qw qx qy qz per ring)
   const waiting = {};   // script path -> [callbacks]
 
-  // the frame scripts call this
-  window.chainmailFrame = function (backend, k, t, values) {
-    (frames[backend] = frames[backend] || {})[k] = new Float32Array(values);
+  // the frame scripts call this, with integers: positions in micrometres, quaternions in 1e-4
+  window.chainmailFrame = function (key, k, t, values) {
+    const f = new Float32Array(values.length);
+    for (let i = 0; i < values.length; ++i) f[i] = values[i] * (i % 7 < 3 ? 1e-6 : 1e-4);
+    (frames[key] = frames[key] || {})[k] = f;
   };
   function loadScript(path, done) {
     if (waiting[path]) { waiting[path].push(done); return; }
@@ -23,12 +26,12 @@ window.chainmailView = (function () {
     s.src = path;
     document.head.append(s);
   }
-  function framePath(b, k) {
-    return `report/frames/${b}/${String(k).padStart(5, '0')}.js`;
+  function framePath(key, k) {
+    return `report/frames/${key}/${String(k).padStart(5, '0')}.js`;
   }
-  function loadFrame(b, k, done) {
-    if (frames[b] && frames[b][k]) { done(true); return; }
-    loadScript(framePath(b, k), done);
+  function loadFrame(key, k, done) {
+    if (frames[key] && frames[key][k]) { done(true); return; }
+    loadScript(framePath(key, k), done);
   }
 
   function colliderMeshes(scene, size) {
@@ -87,18 +90,19 @@ window.chainmailView = (function () {
     return rows;
   }
 
-  function build(section, R, csv) {
-    const summary = R.files['summary.json'];
+  // F: the frames of one run (rings; per backend count, times and key); tag: the ids' suffix
+  function build(section, summary, F, csv, tag) {
     const scene = summary.scene;
     const ring = summary.ring;
-    const names = Object.keys(R.frames.backends);
-    const count = Math.max(...names.map((b) => R.frames.backends[b].count));
-    const times = R.frames.backends[names.find((b) => R.frames.backends[b].count === count)].times;
+    const names = Object.keys(F.backends);
+    const count = Math.max(...names.map((b) => F.backends[b].count));
+    const times = F.backends[names.find((b) => F.backends[b].count === count)].times;
     const rows = metricsBy(csv);
+    const keyOf = (b) => F.backends[b].key || b;
 
-    const slider = el('input', { type: 'range', min: 0, max: count - 1, value: 0, step: 1, id: 'frame-slider' });
-    const play = el('button', { type: 'button', id: 'play', text: '▶ play' });
-    const label = el('span', { id: 'frame-label', class: 'muted' });
+    const slider = el('input', { type: 'range', min: 0, max: count - 1, value: 0, step: 1, id: 'frame-slider' + tag });
+    const play = el('button', { type: 'button', id: 'play' + tag, text: '▶ play' });
+    const label = el('span', { id: 'frame-label' + tag, class: 'muted' });
     const panelsDiv = el('div', { class: 'panels' });
     const stage = el('div', { class: 'stage' }, panelsDiv);
     section.append(el('div', { class: 'controls' }, play, slider, label), stage,
@@ -122,7 +126,7 @@ window.chainmailView = (function () {
     camera.lookAt(target);
 
     // fewer facets for large sheets: a ring is a few pixels there, and software WebGL stays usable
-    const big = R.frames.rings * names.length > 1500;
+    const big = F.rings * names.length > 1500;
     const torus = new THREE.TorusBufferGeometry(ring.centre_radius, ring.wire_radius, big ? 6 : 8, big ? 12 : 20);
     torus.rotateX(Math.PI / 2);  // three.js's torus lies in x/y; a ring lies in its local x/z
     const panels = names.map((b, i) => {
@@ -138,7 +142,7 @@ window.chainmailView = (function () {
       sun.position.copy(eye).sub(target).add(up.clone().multiplyScalar(dist)).normalize();
       s.add(sun);
       const mesh = new THREE.InstancedMesh(torus, new THREE.MeshPhongMaterial({ color: colour(b, i),
-        specular: 0x666666, shininess: 60 }), R.frames.rings);
+        specular: 0x666666, shininess: 60 }), F.rings);
       mesh.frustumCulled = false;  // the instances are far from the torus's own bounds
       s.add(mesh);
       for (const c of colliderMeshes(scene, dist * 3)) s.add(c);
@@ -176,8 +180,8 @@ window.chainmailView = (function () {
     }
     const m4 = new THREE.Matrix4(), pos = new THREE.Vector3(), q = new THREE.Quaternion(), one = new THREE.Vector3(1, 1, 1);
     function show(p, k) {
-      const f = frames[p.name][k];
-      for (let i = 0; i < R.frames.rings; ++i) {
+      const f = frames[keyOf(p.name)][k];
+      for (let i = 0; i < F.rings; ++i) {
         const o = 7 * i;
         pos.set(f[o], f[o + 1], f[o + 2]);
         q.set(f[o + 4], f[o + 5], f[o + 6], f[o + 3]);  // the files hold w first
@@ -215,15 +219,17 @@ window.chainmailView = (function () {
       label.textContent = `frame ${k + 1} / ${count}, t = ${fmt(times[k])} s (loading…)`;
       let left = panels.length;
       for (const p of panels) {
-        const kb = Math.min(k, R.frames.backends[p.name].count - 1);
-        loadFrame(p.name, kb, () => {
+        const kb = Math.min(k, F.backends[p.name].count - 1);
+        loadFrame(keyOf(p.name), kb, () => {
           if (--left > 0 || current !== k) return;
           for (const p2 of panels) {
-            const k2 = Math.min(k, R.frames.backends[p2.name].count - 1);
-            if (frames[p2.name] && frames[p2.name][k2]) show(p2, k2);
+            const k2 = Math.min(k, F.backends[p2.name].count - 1);
+            const got = frames[keyOf(p2.name)];
+            if (got && got[k2]) show(p2, k2);
           }
           label.textContent = `frame ${k + 1} / ${count}, t = ${fmt(times[k])} s`;
-          if (shownFrame < 0) fit(frames[panels[0].name][Math.min(k, R.frames.backends[panels[0].name].count - 1)]);
+          const first = panels[0].name;
+          if (shownFrame < 0) fit(frames[keyOf(first)][Math.min(k, F.backends[first].count - 1)]);
           shownFrame = k;
           draw();
         });
@@ -241,11 +247,22 @@ window.chainmailView = (function () {
     setFrame(0);
   }
 
-  function mount(section, R, csv) {
-    const note = (text) => section.append(el('p', { class: 'note', id: 'no-3d', text }));
+  // lazy: started when `section` first scrolls into sight (a bench's page holds several views,
+  // and three.js is loaded only then)
+  function mount(section, summary, F, csv, tag, lazy) {
+    if (lazy && window.IntersectionObserver) {
+      const seen = new IntersectionObserver((entries) => {
+        if (!entries.some((e) => e.isIntersecting)) return;
+        seen.disconnect();
+        mount(section, summary, F, csv, tag, false);
+      }, { rootMargin: '200px' });
+      seen.observe(section);
+      return;
+    }
+    const note = (text) => section.append(el('p', { class: 'note', id: 'no-3d' + tag, text }));
     const start = () => {
       try {
-        build(section, R, csv);
+        build(section, summary, F, csv, tag);
       } catch (e) {
         note('The 3D view could not start here (' + e.message + '); the tables above hold every number.');
       }
