@@ -100,7 +100,9 @@ double choice_index(const KnobSpec& spec, const KnobValue& given, const std::str
   for (const std::string& name : spec.choices)
     names.append(names.empty() ? "\"" : ", \"").append(name).append("\"");
   std::string got = "a number";
-  if (given.kind == KnobValue::Kind::string) got = "\"" + printable(given.text) + "\"";
+  // appended piece by piece: GCC 12 misreads `"\"" + text` as an overlapping copy
+  if (given.kind == KnobValue::Kind::string)
+    got = std::string("\"").append(printable(given.text)).append("\"");
   if (given.kind == KnobValue::Kind::boolean) got = given.value != 0.0 ? "true" : "false";
   if (given.kind == KnobValue::Kind::other) got = "another kind of value";
   throw SceneError(key + ": must be one of " + names + ", got " + got);
