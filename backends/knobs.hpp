@@ -66,16 +66,20 @@ class KnobTable {
   KnobTable& time_step(double default_value, double min, double max, std::string help) {
     return add({"dt", KnobSpec::Type::number, default_value, min, max, std::move(help), {}}, {});
   }
-  KnobTable& number(std::string name, double S::*field, double min, double max,
-                    std::string help) {
+  KnobTable& number(std::string name, double S::*field, double min, double max, std::string help) {
     const double value = S{}.*field;
     return add({std::move(name), KnobSpec::Type::number, value, min, max, std::move(help), {}},
                field);
   }
   KnobTable& integer(std::string name, int S::*field, int min, int max, std::string help) {
     const double value = S{}.*field;
-    return add({std::move(name), KnobSpec::Type::integer, value, double(min), double(max),
-                std::move(help), {}},
+    return add({std::move(name),
+                KnobSpec::Type::integer,
+                value,
+                double(min),
+                double(max),
+                std::move(help),
+                {}},
                field);
   }
   KnobTable& boolean(std::string name, bool S::*field, std::string help) {

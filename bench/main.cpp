@@ -229,7 +229,8 @@ void add_bench(CLI::App& app, BenchFlags& flags) {
 std::string help_footer() {
   const chainmail::DataDir& data = chainmail::data_dir();
   return "Exit status: 0 ok, 1 a run was unstable, 2 bad input, 3 internal error, 4 the "
-         "output could not be written, 130 interrupted.\n`chainmail backends` lists every backend and knob; the docs describe "
+         "output could not be written, 130 interrupted.\n`chainmail backends` lists every backend "
+         "and knob; the docs describe "
          "every scene key, flag, metric and output file.\nBench scenes: " +
          (data.root.empty() ? std::string("none found") : data.scenes()) +
          " (CHAINMAIL_DATA_DIR overrides the data folder).";
@@ -278,8 +279,9 @@ void add_render(CLI::App& app, RenderFlags& flags) {
 
 CLI::App* add_report(CLI::App& app, std::string& folder) {
   CLI::App* sub = app.add_subcommand(
-      "report", "write index.html into a run, sweep, stability or bench folder: tables, plots, "
-                "images and linked 3D views of every backend, viewable offline");
+      "report",
+      "write index.html into a run, sweep, stability or bench folder: tables, plots, "
+      "images and linked 3D views of every backend, viewable offline");
   sub->add_option("folder", folder, "the folder chainmail wrote")->required();
   return sub;
 }

@@ -298,7 +298,8 @@ Model make_model(const Scene& scene, const Weave& weave, const Settings& given) 
   model.settings = derive_stiffness(given, weave, m, scene.gravity.norm());
   model.springs = build_springs(weave, weave.rest_position, model.settings);
   for (const Spring& s : model.springs) {
-    if (model.settings.correct_all || s.kind == SpringKind::structural) model.corrected.push_back(s);
+    if (model.settings.correct_all || s.kind == SpringKind::structural)
+      model.corrected.push_back(s);
   }
   return model;
 }

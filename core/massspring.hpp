@@ -57,8 +57,8 @@ struct Settings {
   // the correction holds every spring, as the document does; off: the structural springs only,
   // so that the sheet shears as freely as its soft shear springs let it
   bool correct_all = false;
-  bool self_collision = false;             // the self_collide stage runs only when set
-  double thickness = 0.0;                  // m; no two masses closer than this (self-collision)
+  bool self_collision = false;       // the self_collide stage runs only when set
+  double thickness = 0.0;            // m; no two masses closer than this (self-collision)
   int self_collision_passes = 16;    // most projection sweeps over the candidate pairs per step
   double self_collision_skin = 0.5;  // candidate search reach beyond the thickness, x thickness
   int contact_rounds = 2;            // self_collide + collide rounds per step

@@ -42,8 +42,8 @@ int other_runnable_threads() {
   if (!file) return 0;
   double load[3];
   int runnable = 0, threads = 0;
-  const int got = std::fscanf(file, "%lf %lf %lf %d/%d", &load[0], &load[1], &load[2], &runnable,
-                              &threads);
+  const int got =
+      std::fscanf(file, "%lf %lf %lf %d/%d", &load[0], &load[1], &load[2], &runnable, &threads);
   std::fclose(file);
   return got == 5 ? std::max(0, runnable - 1) : 0;
 }
@@ -55,8 +55,7 @@ double process_cpu_seconds() {
 }
 
 double wall_seconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 // the last window's measurement, shared by every model of the process

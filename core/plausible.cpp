@@ -179,7 +179,7 @@ void PlausibleSim::control_substeps(double dt) {
   // the way to a link at the inner diameter, the next step takes a quarter more substeps (what
   // they leave falls with their square: 36 % less); under half of that, an eighth fewer, down to
   // the fixed count
-  const double high = stretch_control_level(), low = 0.5 * high;   // of the longest link
+  const double high = stretch_control_level(), low = 0.5 * high;             // of the longest link
   const double violation = state_.scheduled_residual / model_.longest_link;  // of the longest link
   const int now = state_.substeps;
   if (violation > high) {
@@ -191,8 +191,9 @@ void PlausibleSim::control_substeps(double dt) {
   // kMovePerSubstep inner diameters: a sweep corrects a substep's move only where the move is
   // small beside the rings (a sheet hitting a ball at 10 m/s tears otherwise)
   const double speed = std::sqrt(max_speed_squared()) + model_.gravity.norm() * dt;  // m/s
-  const double limit = kMovePerSubstep * model_.ring.inner_diameter();              // m
-  state_.speed_substeps = static_cast<int>(std::min<double>(kMaxSubsteps, std::ceil(speed * dt / limit)));
+  const double limit = kMovePerSubstep * model_.ring.inner_diameter();               // m
+  state_.speed_substeps =
+      static_cast<int>(std::min<double>(kMaxSubsteps, std::ceil(speed * dt / limit)));
 }
 
 void PlausibleSim::substep(double h, double damp_dt, bool another_follows) {
@@ -309,7 +310,8 @@ double PlausibleSim::max_speed_squared() const {
   std::vector<double> part(loop_threads(threads_, n), 0.0);
   for_ring_ranges(n, threads_, [&](int range, int begin, int end) {
     double fastest = 0.0;
-    for (int i = begin; i < end; ++i) fastest = std::max(fastest, state_.velocity.col(i).squaredNorm());
+    for (int i = begin; i < end; ++i)
+      fastest = std::max(fastest, state_.velocity.col(i).squaredNorm());
     part[range] = fastest;
   });
   return *std::max_element(part.begin(), part.end());

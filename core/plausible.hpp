@@ -208,7 +208,7 @@ struct PlausibleState {
   // left (the last sweep's, or the edges' and colliders' after the Newton steps)
   int sweeps = 0;
   int newton_steps = 0;
-  int substeps = 0;  // automatic substeps: what the stretch control gives the next step
+  int substeps = 0;        // automatic substeps: what the stretch control gives the next step
   int speed_substeps = 1;  // automatic substeps: what the rings' speed asks of the next step
   // m, the largest violation the step's substeps met in their last scheduled sweep (extra sweeps
   // past iterations not counted): what the stretch control reads
@@ -235,7 +235,8 @@ class PlausibleSim {
   // machine has them (on by default; the same bits either way: off serves to compare)
   void set_vector_sweeps(bool on) { vector_sweeps_ = on; }
   bool vector_sweeps() const { return vector_sweeps_; }
-  // the sweeps go band by band (core/plausible_bands.cpp), or colour by colour with all threads meeting after each (off: the same bits, for comparison)
+  // the sweeps go band by band (core/plausible_bands.cpp), or colour by colour with all threads
+  // meeting after each (off: the same bits, for comparison)
   void set_banded_sweeps(bool on) { banded_sweeps_ = on; }
 
   // whether the contact list's pair walk reads the weave's grid packed (see constrained_pair)

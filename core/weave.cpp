@@ -165,8 +165,8 @@ std::vector<int> resolve_pins(const Scene& scene, const Weave& weave) {
         const bool row = pin.which == "top" || pin.which == "bottom";
         if (!row && pin.which != "left" && pin.which != "right") break;
         const int at = pin.which == "top" || pin.which == "left" ? 0
-                       : row                                    ? weave.rows - 1
-                                                                : weave.cols - 1;
+                       : row                                     ? weave.rows - 1
+                                                                 : weave.cols - 1;
         for (int k = 0; k < (row ? weave.cols : weave.rows); ++k)
           pinned.push_back(row ? weave.ring_at_row_col(at, k) : weave.ring_at_row_col(k, at));
         break;

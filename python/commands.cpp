@@ -110,7 +110,8 @@ std::string sweep(const PyScene& scene, const std::vector<std::string>& vary,
   for (const std::string& name : backends) check_text("backends", name);
   if (out) check_text("out", *out);
   check_text("cache", cache);
-  if (jobs < 1 || jobs > 256) throw py::value_error("jobs: " + std::to_string(jobs) + " is outside 1 to 256");
+  if (jobs < 1 || jobs > 256)
+    throw py::value_error("jobs: " + std::to_string(jobs) + " is outside 1 to 256");
   SweepCommand command;
   command.scene_file = scene.path;
   command.overrides = scene.overrides;

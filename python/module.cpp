@@ -40,8 +40,8 @@ std::vector<std::string> override_texts(const py::dict& overrides) {
       text = dumps(value, py::arg("allow_nan") = false).cast<std::string>();
     } catch (const py::error_already_set& e) {
       // NaN, infinity, or an object JSON cannot hold: refused naming the key, as --set would be
-      throw py::value_error("overrides: key '" + name + "': " +
-                            py::repr(value).cast<std::string>() + " is not a JSON value");
+      throw py::value_error("overrides: key '" + name +
+                            "': " + py::repr(value).cast<std::string>() + " is not a JSON value");
     }
     texts.push_back(name + "=" + text);
   }

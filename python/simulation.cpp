@@ -24,7 +24,9 @@ namespace chainmail::python {
 namespace {
 
 // a step's or a path's argument refused as the command line refuses it: ValueError naming it
-[[noreturn]] void refuse(const std::string& what) { throw py::value_error(what); }
+[[noreturn]] void refuse(const std::string& what) {
+  throw py::value_error(what);
+}
 
 class Simulation {
  public:
@@ -72,7 +74,8 @@ class Simulation {
       shared_.read_frame(copy);
     }
     auto rows = [](const auto& m) {
-      py::array_t<double> a({static_cast<py::ssize_t>(m.cols()), static_cast<py::ssize_t>(m.rows())});
+      py::array_t<double> a(
+          {static_cast<py::ssize_t>(m.cols()), static_cast<py::ssize_t>(m.rows())});
       std::copy(m.data(), m.data() + m.size(), a.mutable_data());
       return a;
     };
@@ -167,10 +170,12 @@ void check_render_arguments(size_t count, int width, int height, const std::stri
                             int samples) {
   if (count == 0) refuse("simulations: no simulation to draw");
   // as `chainmail render --size WxH --samples N --material NAME` take them
-  if (width < 16 || width > 8192) refuse("width: " + std::to_string(width) + " pixels, expected 16 to 8192");
+  if (width < 16 || width > 8192)
+    refuse("width: " + std::to_string(width) + " pixels, expected 16 to 8192");
   if (height < 16 || height > 8192)
     refuse("height: " + std::to_string(height) + " pixels, expected 16 to 8192");
-  if (samples < 0 || samples > 16) refuse("samples: " + std::to_string(samples) + ", expected 0 to 16");
+  if (samples < 0 || samples > 16)
+    refuse("samples: " + std::to_string(samples) + ", expected 0 to 16");
   const std::vector<std::string> names = render::material_names();
   if (std::find(names.begin(), names.end(), material) == names.end()) {
     std::string known;

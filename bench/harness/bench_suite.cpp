@@ -14,8 +14,8 @@
 #include "bench/harness/interrupt.hpp"
 #include "bench/harness/output.hpp"
 #include "bench/harness/output_folder.hpp"
-#include "bench/harness/report.hpp"
 #include "bench/harness/render_output.hpp"
+#include "bench/harness/report.hpp"
 #include "bench/harness/run.hpp"
 #include "bench/harness/scaling.hpp"
 #include "bench/harness/scene_file.hpp"
@@ -73,8 +73,12 @@ const BenchPlan& bench_plan() {
                {"weave.rows=8", "weave.cols=8", "duration=0.5", "colliders.0.radius=0.015",
                 "colliders.0.center=[0,0.12,0]"},
                quick_sheet},
-              {"chain_catenary.json", {"weave.cols=30", "duration=2.0"}, {"weave.cols=8", "duration=0.05"}},
-              {"chain_pile.json", {"weave.cols=20", "duration=0.5"}, {"weave.cols=6", "duration=0.05"}},
+              {"chain_catenary.json",
+               {"weave.cols=30", "duration=2.0"},
+               {"weave.cols=8", "duration=0.05"}},
+              {"chain_pile.json",
+               {"weave.cols=20", "duration=0.5"},
+               {"weave.cols=6", "duration=0.05"}},
           },
       .vary = "backends.{backend}.dt=0.008,0.004,0.002,0.001,0.0005",
       .quick_vary = "backends.{backend}.dt=0.004,0.002",

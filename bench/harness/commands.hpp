@@ -32,7 +32,7 @@ struct RunCommand {
   bool force = false;                 // replace a foreign empty folder at out_dir
   bool frames = false;
   bool render = false;
-  bool report = false;  // index.html and report/ (bench/harness/report.hpp)
+  bool report = false;    // index.html and report/ (bench/harness/report.hpp)
   std::string shader;     // cloth shader for --render
   std::string material;   // ring material for --render (empty: steel)
   std::string reference;  // "" = the scene's, "none" = no reference run

@@ -48,7 +48,9 @@ std::string DataDir::scenes() const {
   return require(*this) + (source_tree ? "/bench/scenes" : "/scenes");
 }
 
-std::string DataDir::shaders() const { return require(*this) + "/shaders"; }
+std::string DataDir::shaders() const {
+  return require(*this) + "/shaders";
+}
 
 std::string DataDir::plot_script(const std::string& name) const {
   return require(*this) + (source_tree ? "/bench/" : "/") + name;
@@ -78,8 +80,7 @@ const DataDir& data_dir() {
 std::string render_shader_dir() {
   if (const fs::path bin = executable_dir(); !bin.empty() && is_dir(bin / "shaders"))
     return (bin / "shaders").string();
-  if (const char* env = std::getenv("CHAINMAIL_SHADER_DIR"); env && *env && is_dir(env))
-    return env;
+  if (const char* env = std::getenv("CHAINMAIL_SHADER_DIR"); env && *env && is_dir(env)) return env;
   if (const DataDir& dir = data_dir(); !dir.root.empty() && is_dir(dir.shaders()))
     return dir.shaders();
   return "";

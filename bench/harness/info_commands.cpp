@@ -18,10 +18,14 @@ using json = nlohmann::json;
 
 const char* type_name(KnobSpec::Type type) {
   switch (type) {
-    case KnobSpec::Type::number: return "number";
-    case KnobSpec::Type::integer: return "integer";
-    case KnobSpec::Type::boolean: return "boolean";
-    case KnobSpec::Type::choice: return "choice";
+    case KnobSpec::Type::number:
+      return "number";
+    case KnobSpec::Type::integer:
+      return "integer";
+    case KnobSpec::Type::boolean:
+      return "boolean";
+    case KnobSpec::Type::choice:
+      return "choice";
   }
   return "";
 }
@@ -75,7 +79,10 @@ std::string knob_line(const KnobSpec& spec) {
   std::string range;
   for (const std::string& name : spec.choices) range.append(range.empty() ? "" : "|").append(name);
   if (spec.type != KnobSpec::Type::boolean && spec.type != KnobSpec::Type::choice)
-    range.append("[").append(short_number(spec.min)).append(", ").append(short_number(spec.max))
+    range.append("[")
+        .append(short_number(spec.min))
+        .append(", ")
+        .append(short_number(spec.max))
         .append("]");
   char line[256];
   std::snprintf(line, sizeof line, "  %-28s %-8s %-12s %-22s ", spec.name.c_str(),
@@ -133,14 +140,15 @@ std::string backends_text() {
     }
     text += name + ": " + info->summary + "\n";
     char header[256];
-    std::snprintf(header, sizeof header, "  %-28s %-8s %-12s %-22s %s\n", "knob", "type",
-                  "default", "range", "meaning");
+    std::snprintf(header, sizeof header, "  %-28s %-8s %-12s %-22s %s\n", "knob", "type", "default",
+                  "range", "meaning");
     text += header;
     for (const KnobSpec& spec : info->knobs) text += knob_line(spec);
     text += "\n";
   }
-  return text + "Set a knob in a scene under backends.<name>.<knob>, or with --set "
-                "backends.<name>.<knob>=VALUE.\n";
+  return text +
+         "Set a knob in a scene under backends.<name>.<knob>, or with --set "
+         "backends.<name>.<knob>=VALUE.\n";
 }
 
 int backends_command(bool as_json) {

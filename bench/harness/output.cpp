@@ -108,7 +108,7 @@ nlohmann::json backend_entry(const BackendRun& b) {
     const KnobSpec* spec = info ? find_knob(*info, k) : nullptr;
     // a choice as its name, as the scene gives it
     knobs[k] = spec && spec->type == KnobSpec::Type::choice ? nlohmann::json(choice_name(*spec, v))
-                                                             : nlohmann::json(v);
+                                                            : nlohmann::json(v);
   }
   entry["knobs"] = knobs;
   nlohmann::json stages = nlohmann::json::object();

@@ -29,8 +29,15 @@ inline bool is_output_failure(const std::error_code& code) {
   if (code.category() != std::generic_category() && code.category() != std::system_category())
     return false;
   switch (code.value()) {
-    case ENOSPC: case EDQUOT: case EROFS: case EIO: case EFBIG: case EACCES: case EPERM:
-    case ENOENT: case ENOTDIR:
+    case ENOSPC:
+    case EDQUOT:
+    case EROFS:
+    case EIO:
+    case EFBIG:
+    case EACCES:
+    case EPERM:
+    case ENOENT:
+    case ENOTDIR:
       return true;
     default:
       return false;

@@ -137,8 +137,7 @@ std::string process_identity(long pid) {
   std::string field;
   for (int k = 3; k <= 22 && fields >> field; ++k) {
   }
-  return std::to_string(pid) + " " + field + " " +
-         read_line("/proc/sys/kernel/random/boot_id");
+  return std::to_string(pid) + " " + field + " " + read_line("/proc/sys/kernel/random/boot_id");
 }
 
 // where a pid means one process: this host and pid namespace ("HOST:pid:[INODE]"); a staging
@@ -152,7 +151,9 @@ std::string pid_space() {
 }
 
 // what a staging folder's marker holds: "PID START BOOT PID_SPACE"
-std::string marker_text() { return process_identity(::getpid()) + " " + pid_space(); }
+std::string marker_text() {
+  return process_identity(::getpid()) + " " + pid_space();
+}
 
 // whether the process a marker names is gone: no such pid, or a pid now another process's
 bool marker_process_gone(const std::string& marker, long pid) {
@@ -197,7 +198,8 @@ void remove_dead_staging(const fs::path& target) {
                                 const std::string& folder, int error) {
   if (error == EROFS || error == ENOSPC || error == EDQUOT || error == EIO)
     throw_write_error(folder, error);
-  refuse(flag, path, (folder == path ? "" : "cannot create " + folder + ": ") + std::strerror(error));
+  refuse(flag, path,
+         (folder == path ? "" : "cannot create " + folder + ": ") + std::strerror(error));
 }
 
 }  // namespace

@@ -64,8 +64,9 @@ void swap_in(const fs::path& staging, const fs::path& folder) {
 std::vector<std::string> write_report(const std::string& folder, const std::string& command) {
   const std::string assets = report_page_dir();
   if (assets.empty())
-    throw UsageError("report: the page's files (report/) are neither beside this binary nor in "
-                     "the data folder (set CHAINMAIL_DATA_DIR)");
+    throw UsageError(
+        "report: the page's files (report/) are neither beside this binary nor in "
+        "the data folder (set CHAINMAIL_DATA_DIR)");
   const ReportInput input = read_report_input(folder, command);  // all checks, nothing written
 
   const fs::path staging = fs::path(folder) / (".report.partial-" + std::to_string(::getpid()));
@@ -74,10 +75,10 @@ std::vector<std::string> write_report(const std::string& folder, const std::stri
     fs::remove_all(staging);
     fs::create_directories(staging / kAssets);
     copy_page(assets, staging, !input.frames.empty(), written);
-    write_file_atomic((staging / kAssets / "data.js").string(),
-                      "window.CHAINMAIL_REPORT = " +
-                          input.data.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) +
-                          ";\n");
+    write_file_atomic(
+        (staging / kAssets / "data.js").string(),
+        "window.CHAINMAIL_REPORT = " +
+            input.data.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + ";\n");
     written.push_back(std::string(kAssets) + "/data.js");
     write_frames(input, staging, written);
     swap_in(staging, folder);

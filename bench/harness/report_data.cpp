@@ -46,8 +46,7 @@ json read_summary(const fs::path& path) {
 // folders the page does not read: frames (read apart), sweep points, the page's own files
 bool skipped(const fs::path& path) {
   const std::string name = path.filename().string();
-  return name.empty() || name[0] == '.' || name == "frames" || name == "points" ||
-         name == "report";
+  return name.empty() || name[0] == '.' || name == "frames" || name == "points" || name == "report";
 }
 
 // every summary, CSV table and image under `folder`, by path relative to it (sorted: the page
@@ -76,7 +75,8 @@ void require_table(const fs::path& folder, const json& files, const std::string&
                    const std::string& header) {
   const auto it = files.find(name);
   if (it == files.end())
-    throw UsageError(shown((folder / name).string()) + ": missing (not a folder this command wrote)");
+    throw UsageError(shown((folder / name).string()) +
+                     ": missing (not a folder this command wrote)");
   if (it->get<std::string>().rfind(header, 0) != 0)
     throw UsageError(shown((folder / name).string()) + ": corrupt (no header " + header + ")");
 }

@@ -20,7 +20,9 @@ const BackendInfo& info() {
   return *found;
 }
 
-test::BackendSim massspring(const Scene& scene) { return test::BackendSim("massspring", scene); }
+test::BackendSim massspring(const Scene& scene) {
+  return test::BackendSim("massspring", scene);
+}
 
 // a small 4-in-1 sheet hanging from its top edge; knobs as given
 Scene mail_scene(const nlohmann::json& knobs, bool self_contact, bool floor) {
@@ -160,8 +162,8 @@ TEST(MassSpringBackend, StagesForLeftOutFeaturesNeverRun) {
 
 TEST(MassSpringBackend, RingMassByDefaultArealDensityWhenGiven) {
   // a lighter or heavier sheet sags differently under the same springs
-  auto ring_mass = massspring(
-      mail_scene({{"ks", 5.0}, {"shear_ks", 5.0}, {"bend_ks", 1.0}}, false, false));
+  auto ring_mass =
+      massspring(mail_scene({{"ks", 5.0}, {"shear_ks", 5.0}, {"bend_ks", 1.0}}, false, false));
   auto heavy = massspring(mail_scene(
       {{"ks", 5.0}, {"shear_ks", 5.0}, {"bend_ks", 1.0}, {"areal_density", 50.0}}, false, false));
   ring_mass.steps(200);

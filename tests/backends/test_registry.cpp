@@ -8,9 +8,9 @@
 #include <fstream>
 #include <memory>
 #include <numbers>
-#include <stdexcept>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -48,8 +48,7 @@ TEST(Registry, KnowsEveryBackendAndHasTheBuiltOnesInTheSameOrder) {
   // the project's own, then any registered by a test before this one
   ASSERT_GE(known.size(), 5u);
   EXPECT_EQ(std::vector<std::string>(known.begin(), known.begin() + 5),
-            (std::vector<std::string>{"plausible", "massspring", "bullet", "ode",
-                                                       "torus_xpbd"}));
+            (std::vector<std::string>{"plausible", "massspring", "bullet", "ode", "torus_xpbd"}));
   auto next = known.begin();
   for (const BackendInfo& info : backend_registry()) {
     next = std::find(next, known.end(), info.name);
@@ -114,7 +113,9 @@ class KnobTableContract : public ::testing::TestWithParam<std::string> {
   const BackendInfo& info() const { return *find_backend(GetParam()); }
 };
 
-bool integral(double value) { return std::floor(value) == value; }
+bool integral(double value) {
+  return std::floor(value) == value;
+}
 
 TEST_P(KnobTableContract, DeclaresDtAndDefaultsWithinRange) {
   const KnobSpec* dt = find_knob(info(), "dt");
@@ -213,10 +214,14 @@ double documented_value(std::string text) {
 
 const char* type_name(KnobSpec::Type type) {
   switch (type) {
-    case KnobSpec::Type::number: return "number";
-    case KnobSpec::Type::integer: return "integer";
-    case KnobSpec::Type::boolean: return "boolean";
-    case KnobSpec::Type::choice: return "choice";
+    case KnobSpec::Type::number:
+      return "number";
+    case KnobSpec::Type::integer:
+      return "integer";
+    case KnobSpec::Type::boolean:
+      return "boolean";
+    case KnobSpec::Type::choice:
+      return "choice";
   }
   return "";
 }
@@ -239,7 +244,7 @@ TEST_P(KnobTableContract, MatchesTheDocumentedTable) {
     }
     EXPECT_EQ(documented_value(rows[k].default_text), spec.default_value);
     if (spec.type == KnobSpec::Type::boolean) continue;  // the range column is empty
-    const std::string& range = rows[k].range_text;  // "[min, max] unit"
+    const std::string& range = rows[k].range_text;       // "[min, max] unit"
     const auto comma = range.find(','), close = range.find(']');
     ASSERT_TRUE(range.starts_with("[") && comma < close && close != std::string::npos) << range;
     EXPECT_EQ(documented_value(range.substr(1, comma - 1)), spec.min);
@@ -247,7 +252,9 @@ TEST_P(KnobTableContract, MatchesTheDocumentedTable) {
   }
 }
 
-std::string backend_name(const ::testing::TestParamInfo<std::string>& info) { return info.param; }
+std::string backend_name(const ::testing::TestParamInfo<std::string>& info) {
+  return info.param;
+}
 
 INSTANTIATE_TEST_SUITE_P(Every, KnobTableContract, ::testing::ValuesIn(known_backend_names()),
                          backend_name);
@@ -259,14 +266,21 @@ TEST(Registry, ReadsAChoiceKnobByItsNameAndRefusesAnyOtherValueListingTheNames) 
   EXPECT_EQ(law.choices, (std::vector<std::string>{"cone", "pyramid"}));
   EXPECT_EQ(resolve_knobs(scene_with(json::object()), torus).at("friction_law"), 0.0);
   for (const std::string name : {"cone", "pyramid"}) {
-    const Knobs knobs = resolve_knobs(scene_with({{"torus_xpbd", {{"friction_law", name}}}}), torus);
+    const Knobs knobs =
+        resolve_knobs(scene_with({{"torus_xpbd", {{"friction_law", name}}}}), torus);
     EXPECT_EQ(choice_name(law, knobs.at("friction_law")), name);
   }
-  const std::string key = "scene.json: key 'backends.torus_xpbd.friction_law': must be one of "
-                          "\"cone\", \"pyramid\", got ";
+  const std::string key =
+      "scene.json: key 'backends.torus_xpbd.friction_law': must be one of "
+      "\"cone\", \"pyramid\", got ";
   const std::vector<std::pair<json, std::string>> wrong = {
-      {"sphere", "\"sphere\""}, {"Cone", "\"Cone\""}, {"", "\"\""}, {1, "a number"},
-      {0.5, "a number"},        {true, "true"},        {json::array({"cone"}), "another kind of value"}};
+      {"sphere", "\"sphere\""},
+      {"Cone", "\"Cone\""},
+      {"", "\"\""},
+      {1, "a number"},
+      {0.5, "a number"},
+      {true, "true"},
+      {json::array({"cone"}), "another kind of value"}};
   for (const auto& [value, got] : wrong) {
     SCOPED_TRACE(value.dump());
     try {

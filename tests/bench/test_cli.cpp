@@ -129,14 +129,17 @@ TEST_F(Cli, BadOverrideAndBadFlagsExitTwo) {
 
 // a 4 x 4 sheet of torus_xpbd dropped on a round table, as table_cloth's is
 TEST_F(Cli, FrictionLawIsAChoiceKnobSetByNameThatChangesTheRun) {
-  const std::string file = scene(
-      {{"weave", {{"plane", "xz"}, {"center", {0.0, 0.105, 0.0}}}},
-       {"pins", json::array()},
-       {"colliders", json::array({{{"type", "cylinder"}, {"center", {0.0, 0.05, 0.0}},
-                                   {"radius", 0.012}, {"half_height", 0.05}, {"friction", 0.4}}})},
-       {"duration", 0.1},
-       {"reference", "torus_xpbd"},
-       {"backends", {{"plausible", nullptr}, {"torus_xpbd", json::object()}}}});
+  const std::string file =
+      scene({{"weave", {{"plane", "xz"}, {"center", {0.0, 0.105, 0.0}}}},
+             {"pins", json::array()},
+             {"colliders", json::array({{{"type", "cylinder"},
+                                         {"center", {0.0, 0.05, 0.0}},
+                                         {"radius", 0.012},
+                                         {"half_height", 0.05},
+                                         {"friction", 0.4}}})},
+             {"duration", 0.1},
+             {"reference", "torus_xpbd"},
+             {"backends", {{"plausible", nullptr}, {"torus_xpbd", json::object()}}}});
   const auto run = [&](const std::string& law, const std::string& folder) {
     const std::string set = law.empty() ? "" : " --set backends.torus_xpbd.friction_law=" + law;
     const Outcome outcome =
@@ -153,8 +156,9 @@ TEST_F(Cli, FrictionLawIsAChoiceKnobSetByNameThatChangesTheRun) {
 
   // any other value: exit 2, one line naming the key and every name, nothing written
   for (const std::string bad : {"sphere", "1", "true"}) {
-    const Outcome refused = chainmail("run " + file + " --set backends.torus_xpbd.friction_law=" +
-                                      bad + " --quiet --out " + out());
+    const Outcome refused =
+        chainmail("run " + file + " --set backends.torus_xpbd.friction_law=" + bad +
+                  " --quiet --out " + out());
     EXPECT_EQ(refused.status, 2) << bad;
     EXPECT_EQ(lines(refused.output), 1) << refused.output;
     EXPECT_NE(refused.output.find("key 'backends.torus_xpbd.friction_law': must be one of "
@@ -168,16 +172,17 @@ TEST_F(Cli, FrictionLawIsAChoiceKnobSetByNameThatChangesTheRun) {
 TEST_F(Cli, UnstableRunExitsOneWithItsVerdictWritten) {
   // a time step far too large for stiff repulsion (Run.InjectedInstabilityIsReportedNotCrashed
   // says why it is max_speed): the run ends with that verdict, files written
-  const std::string file =
-      scene({{"weave", {{"rows", 8}, {"cols", 8}, {"plane", "xz"}}},
-             {"pins", json::array()},
-             {"duration", 1.0},
-             {"backends",
-              {{"plausible",
-                {{"dt", 0.05},
-         {"repulsion_spring", true},
-         {"newton_steps", 0},
-         {"iterations", 1}, {"repulsion_stiffness", 1e6}, {"repulsion_fraction", 1.5}}}}}});
+  const std::string file = scene({{"weave", {{"rows", 8}, {"cols", 8}, {"plane", "xz"}}},
+                                  {"pins", json::array()},
+                                  {"duration", 1.0},
+                                  {"backends",
+                                   {{"plausible",
+                                     {{"dt", 0.05},
+                                      {"repulsion_spring", true},
+                                      {"newton_steps", 0},
+                                      {"iterations", 1},
+                                      {"repulsion_stiffness", 1e6},
+                                      {"repulsion_fraction", 1.5}}}}}});
   const Outcome run = chainmail("run " + file + " --quiet --out " + out() + cache());
   ASSERT_EQ(run.status, 1) << run.output;
   std::ifstream in(fs::path(out()) / "summary.json");
@@ -400,8 +405,9 @@ TEST_F(Cli, CheckValidatesScenesAndWritesNothing) {
   const Outcome ok =
       chainmail("check " + good + " --set weave.rows=3", "cd " + dir_.string() + " &&");
   ASSERT_EQ(ok.status, 0) << ok.output;
-  EXPECT_EQ(ok.output, good + ": ok: scene 'cli', 12 rings (4in1 3 x 4), 0.05 s; backends "
-                              "plausible; reference plausible\n");
+  EXPECT_EQ(ok.output, good +
+                           ": ok: scene 'cli', 12 rings (4in1 3 x 4), 0.05 s; backends "
+                           "plausible; reference plausible\n");
   EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);
 
   // every file is checked; one bad file is bad input

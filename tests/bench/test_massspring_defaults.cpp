@@ -25,7 +25,9 @@ Scene sheet(int n, const nlohmann::json& pins, double duration, const nlohmann::
   const nlohmann::json document = {
       {"name", "massspring_sheet"},
       {"ring",
-       {{"wire_diameter", 0.0016}, {"inner_diameter", 0.008}, {"density", 7850},
+       {{"wire_diameter", 0.0016},
+        {"inner_diameter", 0.008},
+        {"density", 7850},
         {"friction", 0.3}}},
       {"weave", {{"type", "4in1"}, {"rows", n}, {"cols", n}, {"plane", "xy"}}},
       {"pins", pins},
@@ -53,9 +55,9 @@ TEST(MassSpringDefaults, CurtainsAreStableAndSettleWithNoOverride) {
     EXPECT_TRUE(*r.settled);
   }
   // the document's stiff plate (5000 N/m on 0.48 g rings) at one substep of 1/2700 s is not
-  const BackendRun stiff = run(sheet(
-      8, kTopEdge, 1.0,
-      {{"ks", 5000.0}, {"shear_ks", 5000.0}, {"bend_ks", 1000.0}, {"substeps", 1}}));
+  const BackendRun stiff =
+      run(sheet(8, kTopEdge, 1.0,
+                {{"ks", 5000.0}, {"shear_ks", 5000.0}, {"bend_ks", 1000.0}, {"substeps", 1}}));
   EXPECT_FALSE(stiff.stable);
 }
 

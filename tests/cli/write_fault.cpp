@@ -33,21 +33,25 @@ static int fault_now(int fd, size_t bytes) {
 
 ssize_t write(int fd, const void* data, size_t bytes) {
   static ssize_t (*real)(int, const void*, size_t);
-  if (!real) real = reinterpret_cast<ssize_t (*)(int, const void*, size_t)>(dlsym(RTLD_NEXT, "write"));
+  if (!real)
+    real = reinterpret_cast<ssize_t (*)(int, const void*, size_t)>(dlsym(RTLD_NEXT, "write"));
   if (fault_now(fd, bytes)) return -1;
   return real(fd, data, bytes);
 }
 
 ssize_t pwrite(int fd, const void* data, size_t bytes, off_t at) {
   static ssize_t (*real)(int, const void*, size_t, off_t);
-  if (!real) real = reinterpret_cast<ssize_t (*)(int, const void*, size_t, off_t)>(dlsym(RTLD_NEXT, "pwrite"));
+  if (!real)
+    real =
+        reinterpret_cast<ssize_t (*)(int, const void*, size_t, off_t)>(dlsym(RTLD_NEXT, "pwrite"));
   if (fault_now(fd, bytes)) return -1;
   return real(fd, data, bytes, at);
 }
 
 ssize_t writev(int fd, const struct iovec* parts, int count) {
   static ssize_t (*real)(int, const struct iovec*, int);
-  if (!real) real = reinterpret_cast<ssize_t (*)(int, const struct iovec*, int)>(dlsym(RTLD_NEXT, "writev"));
+  if (!real)
+    real = reinterpret_cast<ssize_t (*)(int, const struct iovec*, int)>(dlsym(RTLD_NEXT, "writev"));
   size_t bytes = 0;
   for (int k = 0; k < count; ++k) bytes += parts[k].iov_len;
   if (fault_now(fd, bytes)) return -1;
@@ -56,7 +60,9 @@ ssize_t writev(int fd, const struct iovec* parts, int count) {
 
 size_t fwrite(const void* data, size_t size, size_t count, FILE* file) {
   static size_t (*real)(const void*, size_t, size_t, FILE*);
-  if (!real) real = reinterpret_cast<size_t (*)(const void*, size_t, size_t, FILE*)>(dlsym(RTLD_NEXT, "fwrite"));
+  if (!real)
+    real = reinterpret_cast<size_t (*)(const void*, size_t, size_t, FILE*)>(
+        dlsym(RTLD_NEXT, "fwrite"));
   if (fault_now(fileno(file), size * count)) return 0;
   return real(data, size, count, file);
 }

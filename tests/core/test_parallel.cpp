@@ -60,7 +60,8 @@ TEST(ThreadsForStep, OneThreadStaysOneAndNoneIsEverAdded) {
 TEST(ThreadsForStep, FewerWhileOtherProcessesHoldEveryCore) {
   const int cores = hardware_threads();
   if (cores < 2) GTEST_SKIP() << "one core: nothing to share";
-  if (const char* adapt = std::getenv("CHAINMAIL_ADAPT_THREADS"); adapt && adapt == std::string("0"))
+  if (const char* adapt = std::getenv("CHAINMAIL_ADAPT_THREADS");
+      adapt && adapt == std::string("0"))
     GTEST_SKIP() << "CHAINMAIL_ADAPT_THREADS=0";
   // one spinning process per core (other processes: this process's own threads do not count)
   std::vector<pid_t> children;

@@ -14,7 +14,8 @@
 namespace chainmail::fuzz {
 
 // the input's parts between NUL bytes (a scene file holds none: the rest are extra inputs)
-inline std::vector<std::string> parts(const std::uint8_t* data, std::size_t size, std::size_t most) {
+inline std::vector<std::string> parts(const std::uint8_t* data, std::size_t size,
+                                      std::size_t most) {
   std::vector<std::string> out(1);
   for (std::size_t k = 0; k < size; ++k) {
     if (data[k] == 0 && out.size() < most) {
