@@ -235,9 +235,10 @@ class PlausibleSim {
   // machine has them (on by default; the same bits either way: off serves to compare)
   void set_vector_sweeps(bool on) { vector_sweeps_ = on; }
   bool vector_sweeps() const { return vector_sweeps_; }
-  // the sweeps go band by band (core/plausible_bands.cpp), or colour by colour with all threads
-  // meeting after each (off: the same bits, for comparison)
-  void set_banded_sweeps(bool on) { banded_sweeps_ = on; }
+  // one sweep of the attachments, edges and diagonals, band by band (core/plausible_bands.cpp):
+  // what each constraint sweep runs before the contacts and colliders. Its result is that of the
+  // colour-by-colour sweep (tests/core keeps that as the oracle); the largest violation met, m
+  double sweep_links();
 
   // whether the contact list's pair walk reads the weave's grid packed (see constrained_pair)
   bool packed_grid() const { return !grid_key_.empty(); }
@@ -290,15 +291,11 @@ class PlausibleSim {
   double edge_rows(double near, std::vector<ProjectionRow>& rows) const;
   double contact_rows(double near, std::vector<ProjectionRow>& rows) const;
   double collider_rows(double near, std::vector<ProjectionRow>& rows);
-  // one sweep each (edges: over the given list, the neighbours' or the diagonals'); they return
-  // the largest violation they met, m
-  double solve_edges(const std::vector<EdgeConstraint>& edges, const Colouring& colours);
+  // one sweep over the contact list's pairs; the largest violation met, m
   double solve_contacts();
-  double solve_attachments();
-  // the attachments, edges and diagonals of a sweep, band by band (core/plausible_bands.cpp);
-  // the lists and colours are reordered by band within each colour (no result changes), m
+  // the attachments, edges and diagonals of a sweep in bands (core/plausible_bands.cpp); the
+  // lists and colours are reordered by band within each colour (no result changes)
   void build_sweep_bands();
-  double solve_bands();
   // the threads' runs of bands, (members + 1) first band of each, moved a band at a time toward
   // the thread that worked less in the last sweep (the top of a hanging sheet has more to
   // correct); scheduling only: any split gives the same bits
@@ -361,10 +358,9 @@ class PlausibleSim {
   Projection projection_;  // the Newton steps' factorisation, kept between steps
   StageProfile profile_;
   int threads_ = 1;
-  std::vector<int> band_split_;    // solve_bands' runs of bands, (members + 1)
+  std::vector<int> band_split_;    // sweep_links' runs of bands, (members + 1)
   std::vector<double> band_busy_;  // s, each run's time solving, smoothed over sweeps
   bool vector_sweeps_ = true;
-  bool banded_sweeps_ = true;
 };
 
 }  // namespace chainmail

@@ -21,11 +21,9 @@
 namespace chainmail {
 namespace {
 
-// bands a sheet is cut into (fewer where the pairs reach farther), and the fewest worth it: each
-// thread's run needs two bands or more, so that its interior gives the neighbours time to finish
-// the edge bands
+// bands a sheet is cut into (fewer where the pairs reach farther); each thread's run takes two
+// or more, so that its interior gives the neighbours time to finish the edge bands
 constexpr int kBands = 16;
-constexpr int kMinBands = 4;
 // rings a thread's run of bands is worth: on fewer, a sweep is over in microseconds and a thread
 // waiting on another costs more than it saves (on a busy machine, far more)
 constexpr int kRingsPerThread = 2048;
@@ -34,6 +32,17 @@ int band_of(const std::vector<int>& first_ring, int ring) {
   return static_cast<int>(std::upper_bound(first_ring.begin(), first_ring.end(), ring) -
                           first_ring.begin()) -
          1;
+}
+
+// pairs [begin, end) of a stage, each a block of its own
+std::vector<PairBlock> single_blocks(int begin, int end) {
+  std::vector<PairBlock> blocks;
+  for (int k = begin; k < end; ++k) {
+    PairBlock block;
+    block.pair = k;
+    blocks.push_back(block);
+  }
+  return blocks;
 }
 
 // reorders each colour's pairs by the band of their lower ring (a colour's pairs are independent:
@@ -57,9 +66,13 @@ void add_colour_stages(SweepBands::Kind kind, std::vector<EdgeConstraint>& pairs
       stage.band_start.push_back(static_cast<int>(at - pairs.begin()));
     }
     stage.block_start.push_back(0);
+    // the serial tail's pairs may share rings: one at a time
+    const bool independent = !colours.serial_tail || c + 1 < colours.colours();
     for (int k = 0; k < bands.bands(); ++k) {
-      const std::vector<PairBlock> band = make_pair_blocks(pairs.data(), stage.band_start[k],
-                                                           stage.band_start[k + 1], inverse_mass);
+      const std::vector<PairBlock> band =
+          independent ? make_pair_blocks(pairs.data(), stage.band_start[k], stage.band_start[k + 1],
+                                         inverse_mass)
+                      : single_blocks(stage.band_start[k], stage.band_start[k + 1]);
       stage.blocks.insert(stage.blocks.end(), band.begin(), band.end());
       stage.block_start.push_back(static_cast<int>(stage.blocks.size()));
     }
@@ -96,8 +109,6 @@ void report(BandProgress& band, int stages) {
 
 void PlausibleSim::build_sweep_bands() {
   model_.bands = SweepBands{};
-  // a list that overflowed its colours has pairs sharing rings in one stage: no bands
-  if (model_.edge_colours.serial_tail || model_.diagonal_colours.serial_tail) return;
   const int n = static_cast<int>(weave_.size());
   // the farthest a pair reaches in ring indices: a band is at least that wide
   int reach = 1;
@@ -105,10 +116,12 @@ void PlausibleSim::build_sweep_bands() {
     for (const EdgeConstraint& e : *pairs) reach = std::max(reach, std::abs(e.a - e.b));
   }
   const int width = std::max(reach, (n + kBands - 1) / kBands);
-  const int count = (n + width - 1) / width;
-  if (count < kMinBands) return;
+  // a list that overflowed its colours has pairs sharing rings in one stage, solved in order:
+  // one band, one thread
+  const bool serial = model_.edge_colours.serial_tail || model_.diagonal_colours.serial_tail;
+  const int count = serial ? 1 : std::max(1, (n + width - 1) / width);
   SweepBands& bands = model_.bands;
-  for (int k = 0; k <= count; ++k) bands.first_ring.push_back(std::min(n, k * width));
+  for (int k = 0; k <= count; ++k) bands.first_ring.push_back(k == count ? n : k * width);
   // the attachments first (each list a stage: it holds a ring once); they move only their ring
   // (a pin never moves), so each goes with its ring's band
   for (int list = 0; list < static_cast<int>(model_.attachments.size()); ++list) {
@@ -142,15 +155,16 @@ void PlausibleSim::build_sweep_bands() {
                     model_.inverse_mass, bands);
 }
 
-double PlausibleSim::solve_bands() {
+double PlausibleSim::sweep_links() {
   auto scope = profile_.scope("constraints");
   const SweepBands& bands = model_.bands;
   const int count = bands.bands();
   const int stages = static_cast<int>(bands.stages.size());
   std::vector<BandProgress> progress(count);
   const int rings = static_cast<int>(state_.position.cols());
+  // each thread's run needs two bands or more
   const int team = parallel_loops_available()
-                       ? std::clamp(std::min(threads_, rings / kRingsPerThread), 1, count / 2)
+                       ? std::max(1, std::min({threads_, rings / kRingsPerThread, count / 2}))
                        : 1;
   std::vector<double> busy(team, 0.0);  // s, each thread's time solving (not waiting)
   int members = 1;

@@ -42,8 +42,6 @@ void PlausibleSim::solve_positions() {
   state_.sweeps = 0;
   state_.newton_steps = 0;
   state_.residual = 0.0;
-  const bool attached = !model_.attachments[0].empty();
-  const bool banded = banded_sweeps_ && !model_.bands.stages.empty();
   // the step's sweeps are shared among its substeps
   const int iterations = std::max(1, model_.settings.iterations / substep_count());
   // with the substeps under control, up to kExtraSweeps more while a sweep meets a violation past
@@ -52,16 +50,7 @@ void PlausibleSim::solve_positions() {
   const double control = stretch_control_level() * model_.longest_link;  // m
   while (state_.sweeps < iterations + extra) {
     // the attachments first: the sheet-wide part of a stretch, then the edges fix the local one
-    double residual = 0.0;  // m
-    if (banded) {
-      residual = solve_bands();
-    } else {
-      residual = attached ? solve_attachments() : 0.0;
-      residual = std::max(residual, solve_edges(model_.edges, model_.edge_colours));
-      if (!model_.diagonals.empty()) {
-        residual = std::max(residual, solve_edges(model_.diagonals, model_.diagonal_colours));
-      }
-    }
+    double residual = sweep_links();  // m
     if (contacts) residual = std::max(residual, solve_contacts());
     if (colliders) residual = std::max(residual, collide());
     ++state_.sweeps;
@@ -185,28 +174,6 @@ double PlausibleSim::collider_rows(double near, std::vector<ProjectionRow>& rows
         state_.contact_friction[i] = collider.friction;
       }
     }
-  }
-  return worst;
-}
-
-double PlausibleSim::solve_edges(const std::vector<EdgeConstraint>& edges,
-                                 const Colouring& colours) {
-  auto scope = profile_.scope("constraints");
-  double* const x = state_.position.data();            // (3 n) m
-  const double* const w = model_.inverse_mass.data();  // (n) 1/kg
-  return sweep_colours(colours, threads_, [&](int k) { return sweep_pair(x, w, edges[k]); });
-}
-
-double PlausibleSim::solve_attachments() {
-  auto scope = profile_.scope("constraints");
-  double* const x = state_.position.data();  // (3 n) m
-  double worst = 0.0;                        // m
-  // each list holds a ring once: its projections are independent
-  for (const std::vector<PinAttachment>& list : model_.attachments) {
-    const int count = static_cast<int>(list.size());
-    const int team = loop_threads(threads_, count);
-#pragma omp parallel for schedule(static) num_threads(team) reduction(max : worst)
-    for (int k = 0; k < count; ++k) worst = std::max(worst, sweep_attachment(x, list[k]));
   }
   return worst;
 }
