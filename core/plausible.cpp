@@ -37,7 +37,6 @@ void for_ring_ranges(int n, int threads, Pass&& pass) {
 void PlausibleSim::reset(const Scene& scene, const Weave& weave,
                          const PlausibleSettings& settings) {
   weave_ = weave;
-  build_grid_keys();
   band_split_.clear();  // the threads' split of the bands starts even
   band_busy_.clear();
   const int n = weave.size();
@@ -63,6 +62,7 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
       geometric > 0.0 ? (1.0 - settings.tolerance) * geometric : fraction_length;
   // neighbours as close as the weave's geometry lets them come (the wire thickness without it)
   const double closest = build_compression_limits();
+  model_.grid = grid_keys(weave, !model_.diagonals.empty());
   // the weave's links as edge constraints, grouped by colour (core/colouring.hpp)
   for (const RingPair& link : weave.links) {
     model_.edges.push_back({link.a, link.b, closest, max_length});
@@ -278,7 +278,7 @@ void PlausibleSim::refresh_contact_candidates(const RingMoves* measured) {
     const int begin = static_cast<int>(static_cast<long long>(walk) * part / parts);
     const int end = static_cast<int>(static_cast<long long>(walk) * (part + 1) / parts);
     hash_.for_each_pair_in(state_.position, radius, begin, end, [&](int i, int j) {
-      if (!constrained_pair(i, j)) found.push_back({i, j});
+      if (!model_.grid.constrained(i, j)) found.push_back({i, j});
     });
   }
   state_.contact_candidates.clear();

@@ -160,6 +160,28 @@ struct SweepBands {
   int bands() const { return static_cast<int>(first_ring.size()) - 1; }
 };
 
+// the pairs the sweeps hold already: linked neighbours (the edges) and, where the model bounds
+// them (the diagonals), rings that share two neighbours, (i +- 1, j +- 1). The contact list's
+// pair walk asks it of every pair in range, nine in ten of which are one or the other: the grid
+// packed into 4 bytes a ring keeps the walk's lookups in cache (the neighbour lists and the grid
+// cost a cache miss a pair at 256 x 256; tests/core keeps them as the oracle)
+struct GridKeys {
+  std::vector<std::uint32_t> key;  // (n) row << column_bits | column, from the grid's corner
+  int column_bits = 0;
+  bool diagonals = false;
+  bool constrained(int a, int b) const {
+    const std::uint32_t p = key[a], q = key[b], column = (std::uint32_t{1} << column_bits) - 1;
+    const int rows = std::abs(static_cast<int>(p >> column_bits) - static_cast<int>(q >> column_bits));
+    const int cols = std::abs(static_cast<int>(p & column) - static_cast<int>(q & column));
+    return rows <= 1 && cols <= 1 && (rows + cols == 1 || diagonals);
+  }
+};
+
+// the weave's grid packed; std::invalid_argument where a ring's neighbours are not exactly its
+// grid-adjacent rings (every weave make_weave builds has them so), two rings share a cell, or the
+// grid spans more cells than 32 bits number
+GridKeys grid_keys(const Weave& weave, bool diagonals);
+
 // fixed model: built once from the scene
 struct PlausibleModel {
   RingGeometry ring;
@@ -175,6 +197,7 @@ struct PlausibleModel {
   std::vector<EdgeConstraint> diagonals;  // by colour
   Colouring diagonal_colours;
   PinPaths pin_paths;  // 4-in-1 with swivel_from_pins: the rings breadth-first from the pins
+  GridKeys grid;       // which pairs the sweeps hold (the contact list leaves them out)
   // the attachments, edges and diagonals in bands (core/plausible_bands.cpp)
   SweepBands bands;
   std::vector<Collider> colliders;
@@ -240,8 +263,6 @@ class PlausibleSim {
   // colour-by-colour sweep (tests/core keeps that as the oracle); the largest violation met, m
   double sweep_links();
 
-  // whether the contact list's pair walk reads the weave's grid packed (see constrained_pair)
-  bool packed_grid() const { return !grid_key_.empty(); }
   const PlausibleModel& model() const { return model_; }
   const PlausibleState& state() const {
     if (orientation_stale_) orient();
@@ -303,28 +324,6 @@ class PlausibleSim {
   double solve_stage_band(const SweepBands::Stage& stage, int band);
   // the diagonal records and the neighbours' closest approach (core/plausible_weave.cpp), m
   double build_compression_limits();
-  // the weave's grid packed ring by ring, row << 16 | column, where the neighbour lists are
-  // exactly each ring's grid-adjacent rings and every coordinate fits 16 bits (else left empty)
-  void build_grid_keys();
-  // pairs the sweeps hold already: linked neighbours (the edges) and rings that share two
-  // neighbours, (i +- 1, j +- 1), where the model bounds them (the diagonals). Inline: the contact
-  // list's pair walk asks it of every pair in range, nine in ten of which are one or the other;
-  // from the packed grid where there is one (4 bytes a ring: the walk's lookups stay in cache;
-  // the neighbour lists and the grid cost a cache miss a pair at 256 x 256)
-  bool constrained_pair(int a, int b) const {
-    if (!grid_key_.empty()) {
-      const std::uint32_t p = grid_key_[a], q = grid_key_[b];
-      const int rows = std::abs(static_cast<int>(p >> 16) - static_cast<int>(q >> 16));
-      const int cols = std::abs(static_cast<int>(p & 0xffff) - static_cast<int>(q & 0xffff));
-      return rows <= 1 && cols <= 1 && (rows + cols == 1 || !model_.diagonals.empty());
-    }
-    const std::array<int, 4>& nb = weave_.neighbours[a];
-    if (nb[0] == b || nb[1] == b || nb[2] == b || nb[3] == b) return true;
-    if (model_.diagonals.empty()) return false;
-    const std::array<int, 2>& first = weave_.grid[a];
-    const std::array<int, 2>& second = weave_.grid[b];
-    return std::abs(first[0] - second[0]) == 1 && std::abs(first[1] - second[1]) == 1;
-  }
   double collide();
   // m, how far ring's centre must stay from a collider with outward normal n
   double collider_margin(int ring, const Vec3& normal) const;
@@ -348,7 +347,6 @@ class PlausibleSim {
   // the last substep's velocity update waits for the next prediction (integrate does both)
   bool velocities_pending_ = false;
   SpatialHash hash_;
-  std::vector<std::uint32_t> grid_key_;  // (n) row << 16 | column (build_grid_keys), or empty
   // the contact list's pair walk, one list per part (each on cache lines of its own: the parts
   // push at once), kept from rebuild to rebuild with their memory
   struct alignas(64) FoundPairs {

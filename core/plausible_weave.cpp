@@ -1,8 +1,12 @@
 // The plausible model's compression limits from the weave's geometry (core/weave_limits): the
 // closest approach of linked neighbours, and the distance bounds of rings that share two
 // neighbours, solved in the same sweeps as the edges; and the weave's grid packed for the contact
-// list's pair walk.
+// list's pair walk (GridKeys).
 #include <algorithm>
+#include <array>
+#include <bit>
+#include <stdexcept>
+#include <string>
 #include <cstdint>
 #include <cstdlib>
 #include <vector>
@@ -37,35 +41,50 @@ double PlausibleSim::build_compression_limits() {
   return std::max(paper, limits.link);
 }
 
-void PlausibleSim::build_grid_keys() {
-  grid_key_.clear();
-  const int n = weave_.size();
-  auto pack = [](int i, int j) {
-    return static_cast<std::uint32_t>(i) << 16 | static_cast<std::uint32_t>(j);
-  };
-  auto fits = [](int i, int j) { return i >= 0 && j >= 0 && i <= 0xffff && j <= 0xffff; };
-  std::vector<std::uint32_t> keys(n);
-  for (int r = 0; r < n; ++r) {
-    if (!fits(weave_.grid[r][0], weave_.grid[r][1])) return;
-    keys[r] = pack(weave_.grid[r][0], weave_.grid[r][1]);
+GridKeys grid_keys(const Weave& weave, bool diagonals) {
+  const int n = weave.size();
+  GridKeys grid;
+  grid.diagonals = diagonals;
+  if (n == 0) return grid;
+  int low[2] = {weave.grid[0][0], weave.grid[0][1]}, high[2] = {low[0], low[1]};
+  for (const std::array<int, 2>& cell : weave.grid) {
+    for (int k = 0; k < 2; ++k) low[k] = std::min(low[k], cell[k]), high[k] = std::max(high[k], cell[k]);
   }
-  std::vector<std::uint32_t> sorted = keys;
+  // a spare row and column of bits: a neighbour's cell one past the corner stays distinct
+  const auto bits = [](long long span) { return static_cast<int>(std::bit_width(static_cast<unsigned long long>(span + 1))); };
+  grid.column_bits = bits(static_cast<long long>(high[1]) - low[1]);
+  if (grid.column_bits + bits(static_cast<long long>(high[0]) - low[0]) > 32) {
+    throw std::invalid_argument("plausible: the weave's grid spans more cells than 32 bits number");
+  }
+  auto pack = [&](long long i, long long j) {
+    return static_cast<std::uint32_t>(i - low[0]) << grid.column_bits | static_cast<std::uint32_t>(j - low[1]);
+  };
+  auto inside = [&](long long i, long long j) {
+    return i >= low[0] && i <= high[0] && j >= low[1] && j <= high[1];
+  };
+  grid.key.resize(n);
+  for (int r = 0; r < n; ++r) grid.key[r] = pack(weave.grid[r][0], weave.grid[r][1]);
+  std::vector<std::uint32_t> sorted = grid.key;
   std::sort(sorted.begin(), sorted.end());
-  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return;  // a shared cell
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
+    throw std::invalid_argument("plausible: two rings of the weave share a grid cell");
+  }
   // each listed neighbour where the grid puts it, and no ring where the list has none
   constexpr int kStep[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};  // the lists' order
   for (int r = 0; r < n; ++r) {
     for (int k = 0; k < 4; ++k) {
-      const int i = weave_.grid[r][0] + kStep[k][0], j = weave_.grid[r][1] + kStep[k][1];
-      const int listed = weave_.neighbours[r][k];
-      if (listed >= 0) {
-        if (weave_.grid[listed][0] != i || weave_.grid[listed][1] != j) return;
-      } else if (fits(i, j) && std::binary_search(sorted.begin(), sorted.end(), pack(i, j))) {
-        return;
+      const long long i = weave.grid[r][0] + kStep[k][0], j = weave.grid[r][1] + kStep[k][1];
+      const int listed = weave.neighbours[r][k];
+      const bool agrees =
+          listed >= 0 ? weave.grid[listed][0] == i && weave.grid[listed][1] == j
+                      : !inside(i, j) || !std::binary_search(sorted.begin(), sorted.end(), pack(i, j));
+      if (!agrees) {
+        throw std::invalid_argument("plausible: ring " + std::to_string(r) +
+                                    "'s neighbours are not its grid-adjacent rings");
       }
     }
   }
-  grid_key_ = std::move(keys);
+  return grid;
 }
 
 }  // namespace chainmail

@@ -1,9 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <random>
 #include <set>
+#include <stdexcept>
 #include <utility>
 
 #include "bench/harness/scene_file.hpp"
@@ -329,38 +332,55 @@ TEST(Plausible, ContactCandidatesHoldEveryPairInRange) {
   EXPECT_LT(sim.state().contact_rebuilds, steps / 2);
 }
 
-TEST(Plausible, ContactListIsTheSameFromThePackedGridAsFromTheNeighbourLists) {
-  // the fold over a sphere with and without the diagonal bounds: once with the weave as made (the
-  // pair walk reads the packed grid), once with its rows numbered from 70000 (past 16 bits: the
-  // walk reads the neighbour lists and the grid). The same candidates at every step, in the same
-  // order, and the same final state
-  const Scene scene = fold_over_sphere();
-  const Weave weave = make_weave(scene.weave, scene.ring);
-  Weave shifted = weave;
-  for (auto& g : shifted.grid) g[0] += 70000;  // even: the rows keep their parity
-  for (const bool limits : {true, false}) {
-    PlausibleSettings settings;
-    settings.compression_limits = limits;
-    PlausibleSim packed, listed;
-    packed.reset(scene, weave, settings);
-    listed.reset(scene, shifted, settings);
-    ASSERT_TRUE(packed.packed_grid());
-    ASSERT_FALSE(listed.packed_grid());
-    long long candidates = 0;
-    for (int s = 0; s < 200; ++s) {
-      packed.step(0.004);
-      listed.step(0.004);
-      const auto& a = packed.state().contact_candidates;
-      const auto& b = listed.state().contact_candidates;
-      ASSERT_EQ(a.size(), b.size()) << "step " << s;
-      for (size_t k = 0; k < a.size(); ++k) {
-        ASSERT_TRUE(a[k].a == b[k].a && a[k].b == b[k].b) << "step " << s << " pair " << k;
+// the oracle of GridKeys::constrained: linked neighbours from the lists, and with the diagonals
+// rings one row and one column apart on the grid
+bool listed_pair(const Weave& weave, bool diagonals, int a, int b) {
+  const std::array<int, 4>& nb = weave.neighbours[a];
+  if (std::find(nb.begin(), nb.end(), b) != nb.end()) return true;
+  return diagonals && std::abs(weave.grid[a][0] - weave.grid[b][0]) == 1 &&
+         std::abs(weave.grid[a][1] - weave.grid[b][1]) == 1;
+}
+
+TEST(Plausible, PackedGridNamesTheNeighbourListsPairs) {
+  // every pair of rings within three cells of each other, as the packed grid and as the lists
+  // say: a 4-in-1 sheet with and without diagonals, the same with its rows numbered from 70000
+  // (past 16 bits), a grid, and a chain longer than 16 bits of columns
+  const Scene sheet = fold_over_sphere();
+  const Weave four = make_weave(sheet.weave, sheet.ring);
+  Weave shifted = four;
+  for (auto& g : shifted.grid) g[0] += 70000;
+  WeaveSpec long_chain;
+  long_chain.type = WeaveType::chain;
+  long_chain.rows = 1, long_chain.cols = 70001;
+  const Weave chain = make_weave(long_chain, sheet.ring);
+  WeaveSpec grid_spec = sheet.weave;
+  grid_spec.type = WeaveType::grid;
+  grid_spec.spacing = 0.006;
+  const Weave grid = make_weave(grid_spec, sheet.ring);
+  long long checked = 0, constrained = 0;
+  for (const Weave* weave : std::initializer_list<const Weave*>{&four, &shifted, &chain, &grid}) {
+    for (const bool diagonals : {true, false}) {
+      const GridKeys keys = grid_keys(*weave, diagonals);
+      const int n = weave->size();
+      for (int a = 0; a < n; a += weave == &chain ? 97 : 1) {
+        for (int b = 0; b < n; ++b) {
+          if (std::abs(weave->grid[a][0] - weave->grid[b][0]) > 3 ||
+              std::abs(weave->grid[a][1] - weave->grid[b][1]) > 3 || a == b) {
+            continue;
+          }
+          const bool expected = listed_pair(*weave, diagonals, a, b);
+          ASSERT_EQ(keys.constrained(a, b), expected) << a << "," << b << " diagonals " << diagonals;
+          ++checked, constrained += expected;
+        }
       }
-      candidates += static_cast<long long>(a.size());
     }
-    EXPECT_GT(candidates, 0);
-    EXPECT_TRUE(packed.state().position == listed.state().position) << limits;
   }
+  EXPECT_GT(constrained, 0);
+  EXPECT_GT(checked, 2 * constrained);  // unconstrained pairs were asked too
+  // a weave whose lists disagree with its grid is refused by name
+  Weave broken = four;
+  std::swap(broken.neighbours[5][1], broken.neighbours[5][3]);
+  EXPECT_THROW(grid_keys(broken, true), std::invalid_argument);
 }
 
 TEST(Plausible, FallingSheetKeepsItsContactCandidates) {
