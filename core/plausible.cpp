@@ -32,6 +32,37 @@ void for_ring_ranges(int n, int threads, Pass&& pass) {
   }
 }
 
+// the edges reachable from a pin, directed away from it (a = nearer the pin), ordered by the
+// breadth-first depth of the far ring, then by far ring: Provot's outward pass
+std::vector<EdgeConstraint> outward_edges(const std::vector<EdgeConstraint>& edges,
+                                          const Weave& weave,
+                                          const std::vector<double>& inverse_mass) {
+  const int n = weave.size();
+  std::vector<EdgeConstraint> outward;
+  std::vector<int> depth(n, -1), queue;
+  for (int i = 0; i < n; ++i) {
+    if (inverse_mass[i] == 0.0) depth[i] = 0, queue.push_back(i);
+  }
+  for (size_t head = 0; head < queue.size(); ++head) {
+    for (int other : weave.neighbours[queue[head]]) {
+      if (other >= 0 && depth[other] < 0)
+        depth[other] = depth[queue[head]] + 1, queue.push_back(other);
+    }
+  }
+  for (const EdgeConstraint& e : edges) {
+    if (depth[e.a] < 0 || depth[e.b] < 0 || depth[e.a] == depth[e.b]) continue;
+    EdgeConstraint directed = e;
+    if (depth[e.b] < depth[e.a]) std::swap(directed.a, directed.b);
+    outward.push_back(directed);
+  }
+  // by depth of the far ring, then by far ring, so each ring's parent edges sit together
+  std::stable_sort(outward.begin(), outward.end(),
+                   [&](const EdgeConstraint& x, const EdgeConstraint& y) {
+                     return depth[x.b] != depth[y.b] ? depth[x.b] < depth[y.b] : x.b < y.b;
+                   });
+  return outward;
+}
+
 }  // namespace
 
 void PlausibleSim::reset(const Scene& scene, const Weave& weave,
@@ -70,30 +101,7 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   model_.edge_colours = colour_pairs(model_.edges, n);
   model_.diagonal_colours = colour_pairs(model_.diagonals, n);
   model_.longest_link = max_length;
-  // breadth-first depth from the pins orders the outward pass
-  {
-    std::vector<int> depth(n, -1), queue;
-    for (int i = 0; i < n; ++i) {
-      if (model_.inverse_mass[i] == 0.0) depth[i] = 0, queue.push_back(i);
-    }
-    for (size_t head = 0; head < queue.size(); ++head) {
-      for (int other : weave.neighbours[queue[head]]) {
-        if (other >= 0 && depth[other] < 0)
-          depth[other] = depth[queue[head]] + 1, queue.push_back(other);
-      }
-    }
-    for (const EdgeConstraint& e : model_.edges) {
-      if (depth[e.a] < 0 || depth[e.b] < 0 || depth[e.a] == depth[e.b]) continue;
-      EdgeConstraint directed = e;
-      if (depth[e.b] < depth[e.a]) std::swap(directed.a, directed.b);
-      model_.outward.push_back(directed);
-    }
-    // by depth of the far ring, then by far ring, so each ring's parent edges sit together
-    std::stable_sort(model_.outward.begin(), model_.outward.end(),
-                     [&](const EdgeConstraint& x, const EdgeConstraint& y) {
-                       return depth[x.b] != depth[y.b] ? depth[x.b] < depth[y.b] : x.b < y.b;
-                     });
-  }
+  model_.outward = outward_edges(model_.edges, weave, model_.inverse_mass);
   const std::vector<int> pinned = resolve_pins(scene, weave);
   if (settings.swivel_from_pins && settings.swivel && weave.type == WeaveType::four_in_one) {
     model_.pin_paths = pin_paths(weave, pinned);
@@ -112,22 +120,7 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   model_.self_contact = scene.self_contact;
   model_.repulsion_range = settings.repulsion_fraction * ring.inner_diameter();
 
-  // state at rest
-  state_ = PlausibleState{};
-  state_.position = weave.rest_position;
-  state_.previous = weave.rest_position;
-  state_.velocity = Positions::Zero(3, n);
-  for (int i = 0; i < n; ++i) {
-    if (model_.inverse_mass[i] > 0.0) state_.velocity.col(i) = scene.initial_velocity;
-  }
-  state_.force = Positions::Zero(3, n);
-  state_.orientation = weave.rest_orientation;
-  state_.contact_push = Eigen::VectorXd::Zero(n);
-  state_.contact_normal = Positions::Zero(3, n);
-  state_.contact_friction = Eigen::VectorXd::Zero(n);
-  state_.substeps = kMinSubsteps;  // where the control runs (controls_substeps)
-  state_.speed_substeps = 1;
-  velocities_pending_ = false;
+  reset_state(scene.initial_velocity);
   // a layout whose links are longer than the rings allow (a grid spaced at the inner diameter)
   // is pulled in before the first step, as a ring inside a collider is pushed out: the move makes
   // no velocity (a substep's correction would, at 1 / h of it)
@@ -141,23 +134,89 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   orient();
 }
 
+void PlausibleSim::reset_state(const Vec3& initial_velocity) {
+  const int n = weave_.size();
+  state_ = PlausibleState{};
+  state_.position = weave_.rest_position;
+  state_.previous = weave_.rest_position;
+  state_.velocity = Positions::Zero(3, n);
+  for (int i = 0; i < n; ++i) {
+    if (model_.inverse_mass[i] > 0.0) state_.velocity.col(i) = initial_velocity;
+  }
+  state_.force = Positions::Zero(3, n);
+  state_.orientation = weave_.rest_orientation;
+  state_.contact_push = Eigen::VectorXd::Zero(n);
+  state_.contact_normal = Positions::Zero(3, n);
+  state_.contact_friction = Eigen::VectorXd::Zero(n);
+  state_.substeps = kMinSubsteps;  // where the control runs (controls_substeps)
+  state_.speed_substeps = 1;
+}
+
 void PlausibleSim::step(double dt) {
   const int substeps = substep_count();
-  const double h = dt / substeps;  // s
+  // a substep's velocity update and the next one's prediction share one pass over the rings
+  // where nothing comes between them: no collider friction, no forces to sum, no damping (the
+  // last substep's)
+  const bool fuse = model_.colliders.empty() && !model_.settings.repulsion_spring;
   state_.scheduled_residual = 0.0;
   for (int k = 0; k < substeps; ++k) {
     const bool last = k + 1 == substeps;
-    substep(h, last ? dt : 0.0, !last);
+    Substep substep{dt / substeps, last ? dt : 0.0, fuse && k > 0, fuse && !last, {}};
+    for (const PlausibleStage stage : kSubstepStages) run_stage(stage, substep);
   }
-  // ring orientation from the neighbour vectors (paper §4): the colliders read it every step (a
-  // torus reaches into a collider by its orientation); otherwise only frames do, and it waits
-  orientation_stale_ = true;
-  if (!model_.colliders.empty()) {
-    auto scope = profile_.scope("orient");
-    orient();
-  }
+  Substep whole{dt, dt, false, false, {}};
+  run_stage(PlausibleStage::orient, whole);
   state_.t += dt;
   if (controls_substeps()) control_substeps(dt);
+}
+
+void PlausibleSim::run_stage(PlausibleStage stage, Substep& substep) {
+  const bool contacts = model_.self_contact && state_.position.cols() > 1;
+  const bool spring = model_.settings.repulsion_spring;
+  switch (stage) {
+    case PlausibleStage::forces:
+      // the repulsion spring between non-neighbours and gravity summed per ring (without the
+      // spring, integrate adds gravity as an acceleration: one pass over the rings less)
+      if (!spring) return;
+      accumulate_forces();
+      if (contacts) {
+        auto scope = profile_.scope(stage_name(PlausibleStage::self_contact));
+        refresh_contact_candidates();
+        add_repulsion_forces();
+      }
+      return;
+    case PlausibleStage::integrate:
+      // symplectic Euler prediction, and the rings' moves since the contact list was built
+      return integrate(substep, contacts && !spring ? &substep.moves : nullptr);
+    case PlausibleStage::self_contact: {
+      // candidate pairs near the predicted positions, for the minimum distance in the sweeps
+      if (!contacts || spring) return;
+      auto scope = profile_.scope(stage_name(stage));
+      return refresh_contact_candidates(&substep.moves);
+    }
+    case PlausibleStage::constraints:
+      // long-range attachments to the pins, Provot edge constraints, minimum distances between
+      // non-neighbours and colliders, swept together (then Newton steps where they leave a link
+      // past newton_level)
+      solve_positions();
+      profile_.record_residual(state_.residual, model_.settings.tolerance * model_.longest_link);
+      return;
+    case PlausibleStage::velocity:
+      // velocities from the constrained motion (paper §3), collider friction; damping once per
+      // step, in the last substep (it removes min(1, damping dt) of the motion it damps)
+      if (!substep.velocity_waits) update_velocities(substep.h, substep.damp_dt);
+      return;
+    case PlausibleStage::orient:
+      // ring orientation from the neighbour vectors (paper §4), once a step: the colliders read
+      // it every step (a torus reaches into a collider by its orientation); otherwise only frames
+      // do, and it waits
+      orientation_stale_ = true;
+      if (!model_.colliders.empty()) {
+        auto scope = profile_.scope(stage_name(stage));
+        orient();
+      }
+      return;
+  }
 }
 
 int PlausibleSim::substep_count() const {
@@ -194,43 +253,6 @@ void PlausibleSim::control_substeps(double dt) {
   const double limit = kMovePerSubstep * model_.ring.inner_diameter();               // m
   state_.speed_substeps =
       static_cast<int>(std::min<double>(kMaxSubsteps, std::ceil(speed * dt / limit)));
-}
-
-void PlausibleSim::substep(double h, double damp_dt, bool another_follows) {
-  const bool contacts = model_.self_contact && state_.position.cols() > 1;
-  const bool spring = model_.settings.repulsion_spring;
-  // external forces: with the repulsion spring between non-neighbours, gravity and the springs
-  // summed per ring; without it gravity alone, which integrate adds as an acceleration (one
-  // pass over the rings less a substep)
-  if (spring) accumulate_forces();
-  if (contacts && spring) {
-    auto scope = profile_.scope("self_contact");
-    refresh_contact_candidates();
-    add_repulsion_forces();
-  }
-  // integrate: symplectic Euler prediction of the new positions (and the rings' moves since the
-  // contact list was built)
-  RingMoves moves;
-  const bool listed_after = contacts && !spring;  // the contact list follows the prediction
-  integrate(h, listed_after ? &moves : nullptr);
-  // candidate pairs near the predicted positions, for the minimum distance in the sweeps
-  if (listed_after) {
-    auto scope = profile_.scope("self_contact");
-    refresh_contact_candidates(&moves);
-  }
-  // long-range attachments to the pins, Provot edge constraints, minimum distances between
-  // non-neighbours and colliders, swept together until converged (then Newton steps)
-  solve_positions();
-  profile_.record_residual(state_.residual, model_.settings.tolerance * model_.longest_link);
-  // velocities from the constrained motion (paper §3), collider friction; damping once per
-  // step, in the last substep (it removes min(1, damping dt) of the motion it damps). Where
-  // nothing comes between them and the next substep's prediction (no damping, no friction, no
-  // forces to sum), they wait for it: one pass over the rings instead of two
-  if (another_follows && damp_dt == 0.0 && model_.colliders.empty() && !spring) {
-    velocities_pending_ = true;
-    return;
-  }
-  update_velocities(h, damp_dt);
 }
 
 void PlausibleSim::accumulate_forces() {
@@ -317,8 +339,9 @@ double PlausibleSim::max_speed_squared() const {
   return *std::max_element(part.begin(), part.end());
 }
 
-void PlausibleSim::integrate(double dt, RingMoves* moves) {
-  auto scope = profile_.scope("integrate");
+void PlausibleSim::integrate(const Substep& substep, RingMoves* moves) {
+  auto scope = profile_.scope(stage_name(PlausibleStage::integrate));
+  const double dt = substep.h;  // s
   const int n = static_cast<int>(state_.position.cols());
   // a ring that starts the step inside a collider's margin (a scene placed it there, or its torus
   // turned to reach farther) moves out before the step, so the move makes no velocity
@@ -331,8 +354,7 @@ void PlausibleSim::integrate(double dt, RingMoves* moves) {
     const double* anchor =
         moves && state_.contact_anchor.cols() == n ? state_.contact_anchor.data() : nullptr;
     // (with the last substep's velocities first, where they waited: substeps of one step share h)
-    const bool velocities_first = velocities_pending_;
-    velocities_pending_ = false;
+    const bool velocities_first = substep.velocity_first;
     std::vector<RingMoves> part(loop_threads(threads_, n));
     for_ring_ranges(n, threads_, [&](int range, int begin, int end) {
       part[range] = velocities_first ? update_velocities_and_predict(ring_arrays(), fall, dt, begin,
@@ -358,7 +380,7 @@ void PlausibleSim::integrate(double dt, RingMoves* moves) {
 }
 
 void PlausibleSim::update_velocities(double dt, double damp_dt) {
-  auto scope = profile_.scope("velocity");
+  auto scope = profile_.scope(stage_name(PlausibleStage::velocity));
   const int n = static_cast<int>(state_.position.cols());
   for_ring_ranges(n, threads_, [&](int, int begin, int end) {
     update_ring_velocities(ring_arrays(), dt, begin, end, vector_sweeps_);

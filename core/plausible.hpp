@@ -171,7 +171,8 @@ struct GridKeys {
   bool diagonals = false;
   bool constrained(int a, int b) const {
     const std::uint32_t p = key[a], q = key[b], column = (std::uint32_t{1} << column_bits) - 1;
-    const int rows = std::abs(static_cast<int>(p >> column_bits) - static_cast<int>(q >> column_bits));
+    const int rows =
+        std::abs(static_cast<int>(p >> column_bits) - static_cast<int>(q >> column_bits));
     const int cols = std::abs(static_cast<int>(p & column) - static_cast<int>(q & column));
     return rows <= 1 && cols <= 1 && (rows + cols == 1 || diagonals);
   }
@@ -239,6 +240,25 @@ struct PlausibleState {
   double residual = 0.0;  // m
 };
 
+// the model's stages: a step walks kSubstepStages once a substep, then orient; the profile
+// reports each by its name
+enum class PlausibleStage {
+  forces,        // repulsion_spring: gravity and the springs summed per ring
+  integrate,     // symplectic Euler prediction (after the substep before's velocities, if waiting)
+  self_contact,  // the contact list near the predicted positions
+  constraints,   // the sweeps, then the Newton correction where they leave too much
+  velocity,      // from the constrained motion; collider friction; damping in the last substep
+  orient,        // ring orientations from the neighbour vectors
+};
+inline constexpr PlausibleStage kSubstepStages[] = {
+    PlausibleStage::forces, PlausibleStage::integrate, PlausibleStage::self_contact,
+    PlausibleStage::constraints, PlausibleStage::velocity};
+constexpr const char* stage_name(PlausibleStage stage) {
+  constexpr const char* kNames[] = {"forces",      "integrate", "self_contact",
+                                    "constraints", "velocity",  "orient"};
+  return kNames[static_cast<int>(stage)];
+}
+
 class PlausibleSim {
  public:
   // automatic substeps: at least kMinSubsteps, more (up to kMaxSubsteps) while the sweeps leave
@@ -274,6 +294,8 @@ class PlausibleSim {
   double max_over_extension() const;
 
  private:
+  // the state at rest in the weave's layout, free rings moving at initial_velocity (m/s)
+  void reset_state(const Vec3& initial_velocity);
   void accumulate_forces();
   void add_repulsion_forces();
   // the contact list, rebuilt where the rings' moves since it was built (measured here, or given)
@@ -294,14 +316,19 @@ class PlausibleSim {
   double stretch_control_level() const { return 0.75 * headroom(); }
   void control_substeps(double dt);
   static constexpr int kExtraSweeps = 8;
-  // one predict-solve-update pass of h seconds; damps as for damp_dt seconds (0: not at all).
-  // another_follows: a substep of the same h comes next in this step (the velocity update may
-  // then wait for its prediction, to go in one pass with it)
-  void substep(double h, double damp_dt, bool another_follows);
-  // the prediction (after the velocity update the substep before left pending, in the same pass);
+  // one substep as its stages see it
+  struct Substep {
+    double h = 0.0;               // s
+    double damp_dt = 0.0;         // s, damping's span: the step's in its last substep, else none
+    bool velocity_first = false;  // integrate: the substep before left its velocity update here
+    bool velocity_waits = false;  // velocity: left to the next substep's prediction
+    RingMoves moves;  // the rings' moves from the contact list's anchor, as integrate measured
+  };
+  void run_stage(PlausibleStage stage, Substep& substep);
+  // the prediction (after the velocity update the substep before left to it, in the same pass);
   // with `moves` (and a contact list), also the rings' moves from the list's anchor, measured in
   // the same pass
-  void integrate(double dt, RingMoves* moves = nullptr);
+  void integrate(const Substep& substep, RingMoves* moves = nullptr);
   void solve_positions();
   bool solves_contacts() const;
   // Newton steps on the edges and colliders until the largest violation is below tolerance, m;
@@ -344,8 +371,6 @@ class PlausibleSim {
   // mutable only for the orientations orient() derives from the positions on demand
   mutable PlausibleState state_;
   mutable bool orientation_stale_ = false;
-  // the last substep's velocity update waits for the next prediction (integrate does both)
-  bool velocities_pending_ = false;
   SpatialHash hash_;
   // the contact list's pair walk, one list per part (each on cache lines of its own: the parts
   // push at once), kept from rebuild to rebuild with their memory

@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <stdexcept>
-#include <string>
 #include <cstdint>
 #include <cstdlib>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "core/constraints.hpp"
@@ -48,16 +48,20 @@ GridKeys grid_keys(const Weave& weave, bool diagonals) {
   if (n == 0) return grid;
   int low[2] = {weave.grid[0][0], weave.grid[0][1]}, high[2] = {low[0], low[1]};
   for (const std::array<int, 2>& cell : weave.grid) {
-    for (int k = 0; k < 2; ++k) low[k] = std::min(low[k], cell[k]), high[k] = std::max(high[k], cell[k]);
+    for (int k = 0; k < 2; ++k)
+      low[k] = std::min(low[k], cell[k]), high[k] = std::max(high[k], cell[k]);
   }
   // a spare row and column of bits: a neighbour's cell one past the corner stays distinct
-  const auto bits = [](long long span) { return static_cast<int>(std::bit_width(static_cast<unsigned long long>(span + 1))); };
+  const auto bits = [](long long span) {
+    return static_cast<int>(std::bit_width(static_cast<unsigned long long>(span + 1)));
+  };
   grid.column_bits = bits(static_cast<long long>(high[1]) - low[1]);
   if (grid.column_bits + bits(static_cast<long long>(high[0]) - low[0]) > 32) {
     throw std::invalid_argument("plausible: the weave's grid spans more cells than 32 bits number");
   }
   auto pack = [&](long long i, long long j) {
-    return static_cast<std::uint32_t>(i - low[0]) << grid.column_bits | static_cast<std::uint32_t>(j - low[1]);
+    return static_cast<std::uint32_t>(i - low[0]) << grid.column_bits |
+           static_cast<std::uint32_t>(j - low[1]);
   };
   auto inside = [&](long long i, long long j) {
     return i >= low[0] && i <= high[0] && j >= low[1] && j <= high[1];
@@ -76,8 +80,9 @@ GridKeys grid_keys(const Weave& weave, bool diagonals) {
       const long long i = weave.grid[r][0] + kStep[k][0], j = weave.grid[r][1] + kStep[k][1];
       const int listed = weave.neighbours[r][k];
       const bool agrees =
-          listed >= 0 ? weave.grid[listed][0] == i && weave.grid[listed][1] == j
-                      : !inside(i, j) || !std::binary_search(sorted.begin(), sorted.end(), pack(i, j));
+          listed >= 0
+              ? weave.grid[listed][0] == i && weave.grid[listed][1] == j
+              : !inside(i, j) || !std::binary_search(sorted.begin(), sorted.end(), pack(i, j));
       if (!agrees) {
         throw std::invalid_argument("plausible: ring " + std::to_string(r) +
                                     "'s neighbours are not its grid-adjacent rings");

@@ -369,7 +369,8 @@ TEST(Plausible, PackedGridNamesTheNeighbourListsPairs) {
             continue;
           }
           const bool expected = listed_pair(*weave, diagonals, a, b);
-          ASSERT_EQ(keys.constrained(a, b), expected) << a << "," << b << " diagonals " << diagonals;
+          ASSERT_EQ(keys.constrained(a, b), expected)
+              << a << "," << b << " diagonals " << diagonals;
           ++checked, constrained += expected;
         }
       }
