@@ -67,7 +67,6 @@ std::vector<EdgeConstraint> outward_edges(const std::vector<EdgeConstraint>& edg
 
 void PlausibleSim::reset(const Scene& scene, const Weave& weave,
                          const PlausibleSettings& settings) {
-  weave_ = weave;
   band_split_.clear();  // the threads' split of the bands starts even
   band_busy_.clear();
   const int n = weave.size();
@@ -75,6 +74,7 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
 
   // fixed model
   model_ = PlausibleModel{};
+  model_.weave = weave;
   model_.ring = ring;
   model_.settings = settings;
   model_.mass = ring_masses(scene, weave);
@@ -135,16 +135,16 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
 }
 
 void PlausibleSim::reset_state(const Vec3& initial_velocity) {
-  const int n = weave_.size();
+  const int n = model_.weave.size();
   state_ = PlausibleState{};
-  state_.position = weave_.rest_position;
-  state_.previous = weave_.rest_position;
+  state_.position = model_.weave.rest_position;
+  state_.previous = model_.weave.rest_position;
   state_.velocity = Positions::Zero(3, n);
   for (int i = 0; i < n; ++i) {
     if (model_.inverse_mass[i] > 0.0) state_.velocity.col(i) = initial_velocity;
   }
   state_.force = Positions::Zero(3, n);
-  state_.orientation = weave_.rest_orientation;
+  state_.orientation = model_.weave.rest_orientation;
   state_.contact_push = Eigen::VectorXd::Zero(n);
   state_.contact_normal = Positions::Zero(3, n);
   state_.contact_friction = Eigen::VectorXd::Zero(n);
@@ -424,7 +424,7 @@ void PlausibleSim::orient() const {
     settings.pull = &state_.pull;
   }
   settings.threads = threads_;
-  orient_rings(state_.position, weave_, model_.ring, settings, state_.orientation);
+  orient_rings(state_.position, model_.weave, model_.ring, settings, state_.orientation);
   // the ring axes the colliders see follow the orientations a fraction per step: a torus's reach
   // into a collider moves its centre, which turns its neighbours; followed at once, rings on a
   // floor lift and turn each other without end
@@ -451,8 +451,8 @@ void PlausibleSim::frame(RingFrame& out) const {
   out.t = state_.t;
   out.position = state_.position;
   out.orientation = state_.orientation;
-  if (model_.settings.swivel && weave_.type == WeaveType::four_in_one) {
-    keep_links(state_.position, weave_, model_.ring, out.orientation);
+  if (model_.settings.swivel && model_.weave.type == WeaveType::four_in_one) {
+    keep_links(state_.position, model_.weave, model_.ring, out.orientation);
   }
   out.velocity = state_.velocity;
 }

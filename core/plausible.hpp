@@ -185,6 +185,7 @@ GridKeys grid_keys(const Weave& weave, bool diagonals);
 
 // fixed model: built once from the scene
 struct PlausibleModel {
+  Weave weave;  // the rings' links, neighbours, grid cells and rest layout
   RingGeometry ring;
   std::vector<double> mass;             // (n) kg
   std::vector<double> inverse_mass;     // (n) 1/kg, 0 for pinned rings
@@ -366,7 +367,6 @@ class PlausibleSim {
   // collider needs them every step)
   void orient() const;
 
-  Weave weave_;
   PlausibleModel model_;
   // mutable only for the orientations orient() derives from the positions on demand
   mutable PlausibleState state_;

@@ -109,7 +109,7 @@ void report(BandProgress& band, int stages) {
 
 void PlausibleSim::build_sweep_bands() {
   model_.bands = SweepBands{};
-  const int n = static_cast<int>(weave_.size());
+  const int n = static_cast<int>(model_.weave.size());
   // the farthest a pair reaches in ring indices: a band is at least that wide
   int reach = 1;
   for (const auto* pairs : {&model_.edges, &model_.diagonals}) {

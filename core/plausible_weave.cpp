@@ -20,14 +20,15 @@ namespace chainmail {
 double PlausibleSim::build_compression_limits() {
   model_.diagonals.clear();
   const double paper = model_.ring.min_link_distance();  // the wire thickness
-  if (!model_.settings.compression_limits || weave_.type != WeaveType::four_in_one) return paper;
+  if (!model_.settings.compression_limits || model_.weave.type != WeaveType::four_in_one)
+    return paper;
   const WeaveLimits limits = four_in_one_limits(model_.ring, model_.extended_swivel);
-  for (const DiagonalPair& pair : diagonal_pairs(weave_, limits)) {
+  for (const DiagonalPair& pair : diagonal_pairs(model_.weave, limits)) {
     model_.diagonals.push_back({pair.a, pair.b, pair.min, pair.max});
   }
   // rings of adjacent rows a row and a half apart meet when a row is pushed together
   const size_t first_knight = model_.diagonals.size();
-  for (const DiagonalPair& pair : knight_pairs(weave_, limits)) {
+  for (const DiagonalPair& pair : knight_pairs(model_.weave, limits)) {
     model_.diagonals.push_back({pair.a, pair.b, pair.min, pair.max});
   }
   // the sweeps solve four pairs at once where a colour runs through consecutive rings
