@@ -19,24 +19,42 @@ const KnobTable<MassSpringKnobs>& massspring_knobs() {
   using S = massspring::Settings;
   static const KnobTable<MassSpringKnobs> table = [] {
     KnobTable<MassSpringKnobs> t;
-    t.time_step(1.0 / 2700.0, 1e-7, 0.1, "time step, s (90 frames/s x 30 steps)");
-    t.integer("substeps", &MassSpringKnobs::substeps, 1, 1000, "Verlet steps per dt");
-    t.number("ks", &S::ks, 0.0, 1e9, "structural spring constant, N/m");
-    t.number("shear_ks", &S::shear_ks, 0.0, 1e9, "shear spring constant, N/m");
-    t.number("bend_ks", &S::bend_ks, 0.0, 1e9, "bending spring constant, N/m");
+    t.time_step(1.0 / 2700.0, 1e-7, 0.1, "time step, s (90 frames/s x 30 steps)")
+        .unit("s")
+        .doc("time step (90 frames/s × 30 steps)");
+    t.integer("substeps", &MassSpringKnobs::substeps, 1, 1000, "Verlet steps per dt")
+        .doc("Verlet steps per `dt`");
+    t.number("ks", &S::ks, 0.0, 1e9, "structural spring constant, N/m")
+        .unit("N/m")
+        .doc("structural spring constant");
+    t.number("shear_ks", &S::shear_ks, 0.0, 1e9, "shear spring constant, N/m")
+        .unit("N/m")
+        .doc("shear spring constant");
+    t.number("bend_ks", &S::bend_ks, 0.0, 1e9, "bending spring constant, N/m")
+        .unit("N/m")
+        .doc("bending spring constant");
     t.number("damping_percent", &S::damping_percent, 0.0, 100.0,
              "Verlet damping, percent per 1/2700 s (the document's step) of motion other than "
-             "rigid");
+             "rigid")
+        .unit("%")
+        .doc("Verlet damping per document step (1/2700 s) of motion other than rigid motion");
     t.boolean("damp_rigid", &S::damp_rigid,
-              "damping slows all motion, rigid motion included (the document's drag)");
+              "damping slows all motion, rigid motion included (the document's drag)")
+        .doc("the damping slows all motion, rigid motion included (the document's drag)");
     t.integer("correction_passes", &S::correction_passes, 0, 10000,
-              "over-extension correction passes per step (0 = off)");
+              "over-extension correction passes per step (0 = off)")
+        .doc("over-extension correction passes per step (0: off)");
     t.number("max_extension", &S::max_extension, 0.0, 10.0,
-             "largest spring extension, fraction of rest");
+             "largest spring extension, fraction of rest")
+        .doc("largest spring extension, fraction of rest length");
     t.number("thickness", &S::thickness, 0.0, 10.0,
-             "self-collision distance, m (0 = the ring's wire thickness 2a)");
+             "self-collision distance, m (0 = the ring's wire thickness 2a)")
+        .unit("m")
+        .doc("self-collision distance (0: the wire thickness 2a)");
     t.number("areal_density", &S::areal_density, 0.0, 1e6,
-             "kg/m^2 of rest sheet (0 = each mass weighs one ring)");
+             "kg/m^2 of rest sheet (0 = each mass weighs one ring)")
+        .unit("kg/m²")
+        .doc("mass per rest-sheet area (0: each mass weighs one ring)");
     return t;
   }();
   return table;

@@ -333,6 +333,8 @@ TEST_F(Cli, BackendsListsEveryKnobWithItsTypeDefaultRangeAndHelp) {
       const json& knob = listed[k]["knobs"][n];
       EXPECT_EQ(knob["name"], spec.name);
       EXPECT_EQ(knob["help"], spec.help);
+      EXPECT_EQ(knob["unit"], spec.unit);
+      EXPECT_EQ(knob["doc"], spec.doc.empty() ? spec.help : spec.doc);
       if (spec.type == KnobSpec::Type::boolean) {
         EXPECT_EQ(knob["type"], "boolean");
         EXPECT_EQ(knob["default"], spec.default_value != 0.0) << spec.name;
