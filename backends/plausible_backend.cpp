@@ -1,5 +1,6 @@
 // Adapter: the paper's plausible model (core/plausible.hpp) behind the Backend interface.
 #include <numbers>
+#include <string>
 
 #include "backends/backend.hpp"
 #include "core/parallel.hpp"
@@ -88,12 +89,14 @@ void add_pin_knobs(PlausibleKnobs& t) {
       .doc(
           "long-range attachments: no ring farther from its nearest pins than its links to "
           "them allow (below)");
+  // the automatic range is the model's own (PlausibleSim::kMinSubsteps to kMaxSubsteps)
+  const std::string automatic = "(0: automatic, " + std::to_string(PlausibleSim::kMinSubsteps) +
+                                " to " + std::to_string(PlausibleSim::kMaxSubsteps) +
+                                " from the stretch the sweeps leave and the rings' speed";
   t.integer("substeps", &S::substeps, 0, 10000,
-            "equal substeps per step, the step's sweeps shared among them (0: automatic, 4 to "
-            "64 from the stretch the sweeps leave and the rings' speed)")
-      .doc(
-          "equal substeps per step, the step's sweeps shared among them (0: automatic, 4 to 64 "
-          "from the stretch the sweeps leave and the rings' speed, below)");
+            "equal substeps per step, the step's sweeps shared among them " + automatic + ")")
+      .doc("equal substeps per step, the step's sweeps shared among them " + automatic +
+           ", below)");
   t.number("newton_level", &S::newton_level, 0.0, 1000.0,
            "Newton steps run where the sweeps leave a violation past this fraction of the way "
            "from the longest link to the inner diameter (0: wherever they leave more than the "
