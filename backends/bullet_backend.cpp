@@ -44,7 +44,9 @@ const KnobTable<BulletSettings>& bullet_knobs() {
   using S = BulletSettings;
   static const KnobTable<S> table = [] {
     KnobTable<S> t;
-    t.time_step(1e-3, 1e-5, 0.1, "time step of the harness, s");
+    t.time_step(1e-3, 1e-5, 0.1, "time step of the harness, s")
+        .unit("s")
+        .doc("time step of the harness");
     t.integer("substeps", &S::substeps, 1, 64, "equal internal Bullet steps per time step");
     t.integer("solver_iterations", &S::solver_iterations, 1, 1000,
               "sequential-impulse sweeps per internal step");
@@ -54,14 +56,21 @@ const KnobTable<BulletSettings>& bullet_knobs() {
     t.number("angular_damping", &S::angular_damping, 0.0, 1.0,
              "fraction of angular velocity removed per second");
     t.integer("pieces", &S::pieces, 6, 256,
-              "capsules per ring torus (28: surface within 2% of the wire radius for AR 5)");
+              "capsules per ring torus (28: surface within 2% of the wire radius for AR 5)")
+        .doc("capsules per ring torus (28: surface within 2 % of the wire radius for AR 5)");
     t.number("length_scale", &S::length_scale, 1e-3, 1e6, "Bullet internal units per metre");
     t.boolean("split_impulse", &S::split_impulse, "resolve penetration without adding velocity");
     t.number("contact_processing_threshold", &S::contact_processing_threshold, 0.0, 1e3,
-             "contact points separated by more than this are kept but not solved, m");
+             "contact points separated by more than this are kept but not solved, m")
+        .unit("m")
+        .doc("contact points separated by more than this are kept but not solved");
     t.integer("friction_directions", &S::friction_directions, 1, 2,
               "friction directions per contact, each up to mu times the normal impulse (2: a "
-              "pyramid; 1: along the sliding velocity only)");
+              "pyramid; 1: along the sliding velocity only)")
+        .doc(
+            "friction directions per contact, each up to μ times the normal impulse on its own "
+            "(2: a pyramid; 1: along the sliding velocity only, see [the rigid "
+            "backends](#the-rigid-backends))");
     return t;
   }();
   return table;

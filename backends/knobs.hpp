@@ -20,10 +20,12 @@ struct KnobSpec {
   std::string name;
   Type type = Type::number;
   double default_value = 0.0;
-  double min = 0.0;  // inclusive
-  double max = 0.0;  // inclusive
-  std::string help;
+  double min = 0.0;                  // inclusive
+  double max = 0.0;                  // inclusive
+  std::string help;                  // one line, for `chainmail backends` and the schema
   std::vector<std::string> choices;  // (choice) the names, in index order
+  std::string unit = {};  // of the value and range ("s", "N/m", "rad"); empty: a pure number
+  std::string doc = {};   // the meaning in docs/backends.md (Markdown); empty: the help
 };
 
 // resolved knob values (booleans as 0/1, choices as the index of the name), every spec'd knob
@@ -100,6 +102,17 @@ class KnobTable {
     return add({std::move(name), KnobSpec::Type::choice, value, 0.0, last, std::move(help),
                 std::move(names)},
                std::move(access));
+  }
+
+  // the unit and the documented meaning of the knob declared last (scripts/knob_docs.py writes
+  // docs/backends.md's knob tables from them):  t.number(...).unit("N/m").doc("...");
+  KnobTable& unit(std::string unit) {
+    specs_.back().unit = std::move(unit);
+    return *this;
+  }
+  KnobTable& doc(std::string doc) {
+    specs_.back().doc = std::move(doc);
+    return *this;
   }
 
   const std::vector<KnobSpec>& specs() const { return specs_; }

@@ -19,33 +19,59 @@ const KnobTable<MassSpringKnobs>& massspring_knobs() {
   using S = massspring::Settings;
   static const KnobTable<MassSpringKnobs> table = [] {
     KnobTable<MassSpringKnobs> t;
-    t.time_step(1.0 / 2700.0, 1e-7, 0.1, "time step, s (90 frames/s x 30 steps)");
+    t.time_step(1.0 / 2700.0, 1e-7, 0.1, "time step, s (90 frames/s x 30 steps)")
+        .unit("s")
+        .doc("time step (90 frames/s × 30 steps)");
     t.integer("substeps", &MassSpringKnobs::substeps, 0, 1000,
-              "Verlet steps per dt (0 = the fewest that keep the springs stable)");
+              "Verlet steps per dt (0 = the fewest that keep the springs stable)")
+        .doc("Verlet steps per `dt` (0: the fewest that keep the springs stable, below)");
     t.number("ks", &S::ks, 0.0, 1e9,
              "structural spring constant, N/m (0 = derived: the sheet stretches `stretch` under "
-             "its own weight)");
-    t.number("shear_ks", &S::shear_ks, 0.0, 1e9, "shear spring constant, N/m (0 = 0.02 ks)");
-    t.number("bend_ks", &S::bend_ks, 0.0, 1e9, "bending spring constant, N/m (0 = 0.02 ks)");
+             "its own weight)")
+        .unit("N/m")
+        .doc("structural spring constant (0: derived from the sheet, below)");
+    t.number("shear_ks", &S::shear_ks, 0.0, 1e9, "shear spring constant, N/m (0 = 0.02 ks)")
+        .unit("N/m")
+        .doc("shear spring constant (0: 0.02 `ks`)");
+    t.number("bend_ks", &S::bend_ks, 0.0, 1e9, "bending spring constant, N/m (0 = 0.02 ks)")
+        .unit("N/m")
+        .doc("bending spring constant (0: 0.02 `ks`)");
     t.number("stretch", &S::stretch, 1e-6, 10.0,
              "the derived ks: stretch of a column as long as the sheet under its own weight, "
-             "fraction of its length");
+             "fraction of its length")
+        .doc(
+            "the derived `ks`: how far a column as long as the sheet stretches under its own "
+            "weight, fraction of its length");
     t.number("damping_percent", &S::damping_percent, 0.0, 100.0,
              "Verlet damping, percent per 1/2700 s (the document's step) of motion other than "
-             "rigid");
+             "rigid")
+        .unit("%")
+        .doc(
+            "Verlet damping per document step (1/2700 s) of motion other than rigid motion (the "
+            "document's: 0.2)");
     t.boolean("damp_rigid", &S::damp_rigid,
-              "damping slows all motion, rigid motion included (the document's drag)");
+              "damping slows all motion, rigid motion included (the document's drag)")
+        .doc("the damping slows all motion, rigid motion included (the document's drag)");
     t.integer("correction_passes", &S::correction_passes, 0, 10000,
-              "over-extension correction passes per step (0 = off)");
+              "over-extension correction passes per step (0 = off)")
+        .doc("over-extension correction passes per step (0: off)");
     t.number("max_extension", &S::max_extension, 0.0, 10.0,
-             "largest spring extension, fraction of rest");
+             "largest spring extension, fraction of rest")
+        .doc("largest spring extension, fraction of rest length");
     t.boolean("correct_all", &S::correct_all,
               "the over-extension correction holds every spring, as the document does (false: "
-              "the structural springs only, so that the sheet shears freely)");
+              "the structural springs only, so that the sheet shears freely)")
+        .doc(
+            "the over-extension correction holds every spring, as the document does (false: the "
+            "structural springs only)");
     t.number("thickness", &S::thickness, 0.0, 10.0,
-             "self-collision distance, m (0 = the ring's wire thickness 2a)");
+             "self-collision distance, m (0 = the ring's wire thickness 2a)")
+        .unit("m")
+        .doc("self-collision distance (0: the wire thickness 2a)");
     t.number("areal_density", &S::areal_density, 0.0, 1e6,
-             "kg/m^2 of rest sheet (0 = each mass weighs one ring)");
+             "kg/m^2 of rest sheet (0 = each mass weighs one ring)")
+        .unit("kg/m²")
+        .doc("mass per rest-sheet area (0: each mass weighs one ring)");
     return t;
   }();
   return table;

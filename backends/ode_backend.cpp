@@ -48,22 +48,33 @@ const KnobTable<OdeSettings>& ode_knobs() {
   using S = OdeSettings;
   static const KnobTable<S> table = [] {
     KnobTable<S> t;
-    t.time_step(1e-3, 1e-7, 1.0, "time step of one step(), s");
-    t.integer("substeps", &S::substeps, 1, 10000, "fixed solver steps per step()");
+    t.time_step(1e-3, 1e-7, 1.0, "time step of one step(), s")
+        .unit("s")
+        .doc("time step of one `step()`");
+    t.integer("substeps", &S::substeps, 1, 10000, "fixed solver steps per step()")
+        .doc("fixed solver steps per `step()`");
     t.integer("iterations", &S::iterations, 1, 100000, "QuickStep SOR iterations per solver step");
     t.number("sor", &S::sor, 0.05, 1.95, "QuickStep over-relaxation factor");
     t.number("erp", &S::erp, 0.0, 1.0, "contact error reduction per solver step");
     t.number("cfm", &S::cfm, 0.0, 1.0,
-             "contact constraint force mixing, internal units (length_scale, ring mass 1)");
+             "contact constraint force mixing, internal units (length_scale, ring mass 1)")
+        .doc("contact constraint force mixing, internal units (`length_scale`, ring mass 1)");
     t.number("restitution", &S::restitution, 0.0, 1.0, "contact restitution");
-    t.number("linear_damping", &S::linear_damping, 0.0, 1e4, "linear velocity damping, 1/s");
-    t.number("angular_damping", &S::angular_damping, 0.0, 1e4, "angular velocity damping, 1/s");
+    t.number("linear_damping", &S::linear_damping, 0.0, 1e4, "linear velocity damping, 1/s")
+        .unit("1/s")
+        .doc("linear velocity damping rate");
+    t.number("angular_damping", &S::angular_damping, 0.0, 1e4, "angular velocity damping, 1/s")
+        .unit("1/s")
+        .doc("angular velocity damping rate");
     t.integer("pieces", &S::pieces, 6, 256, "capsules per ring");
     t.number("length_scale", &S::length_scale, 1e-3, 1e6, "internal length units per metre");
     t.integer("max_contacts", &S::max_contacts, 1, kMaxContactsLimit,
-              "contacts kept per colliding geom pair");
+              "contacts kept per colliding geom pair")
+        .doc("contacts kept per colliding geometry pair");
     t.number("max_correcting_velocity", &S::max_correcting_velocity, 0.0, 1e3,
-             "cap on the speed of penetration recovery, m/s (0: none)");
+             "cap on the speed of penetration recovery, m/s (0: none)")
+        .unit("m/s")
+        .doc("cap on the speed of penetration recovery (0: none)");
     t.number("contact_layer", &S::contact_layer, 0.0, 1.0,
              "resting penetration allowed before correction, fraction of the wire radius");
     return t;

@@ -12,21 +12,45 @@ const KnobTable<TorusXpbdSettings>& torus_xpbd_knobs() {
   using S = TorusXpbdSettings;
   static const KnobTable<S> table = [] {
     KnobTable<S> t;
-    t.time_step(0.005, 1e-6, 0.1, "time step, s");
-    t.integer("substeps", &S::substeps, 1, 10000, "substeps per step, one constraint pass each");
+    t.time_step(0.005, 1e-6, 0.1, "time step, s")
+        .unit("s")
+        .doc("time step (a tenth of the default sample interval)");
+    t.integer("substeps", &S::substeps, 1, 10000, "substeps per step, one constraint pass each")
+        .doc("substeps per step, one constraint pass each (more when rings fly fast, see below)");
     t.number("friction", &S::friction, 0.0, 10.0,
-             "factor on the scene's Coulomb coefficients (0: frictionless)");
+             "factor on the scene's Coulomb coefficients (0: frictionless)")
+        .doc(
+            "factor on the scene's Coulomb coefficients (`ring.friction`, each collider's "
+            "`friction`); 0: frictionless");
     t.number("restitution", &S::restitution, 0.0, 1.0, "normal restitution of every contact");
-    t.number("compliance", &S::compliance, 0.0, 1e3, "contact compliance, m/N (0: rigid)");
-    t.number("damping", &S::damping, 0.0, 1e4, "linear and angular velocity drag, 1/s");
+    t.number("compliance", &S::compliance, 0.0, 1e3, "contact compliance, m/N (0: rigid)")
+        .unit("m/N")
+        .doc("contact compliance (0: rigid)");
+    t.number("damping", &S::damping, 0.0, 1e4, "linear and angular velocity drag, 1/s")
+        .unit("1/s")
+        .doc(
+            "linear and angular velocity drag: velocities are multiplied by exp(−damping · h) "
+            "every substep h");
     t.integer("velocity_iterations", &S::velocity_iterations, 1, 1000,
               "Gauss-Seidel passes of the velocity solve (restitution, dynamic friction) per "
-              "substep, the first two over every contact, the others over those near colliders");
+              "substep, the first two over every contact, the others over those near colliders")
+        .doc(
+            "Gauss-Seidel passes of the velocity solve (restitution, dynamic friction) per "
+            "substep, the first two over every contact, the others over those near colliders; "
+            "friction's impulse over all of them at most `friction` times the normal one");
     t.boolean("sleeping", &S::sleeping,
-              "rings at rest are not integrated until a contact moves them");
+              "rings at rest are not integrated until a contact moves them")
+        .doc(
+            "rings whose points all move slower than 1 mm/s for 0.3 s are no longer integrated "
+            "until a contact moves them");
     t.choice("friction_law", &S::friction_law, {"cone", "pyramid"},
              "cone: Coulomb's bound in every direction; pyramid: the bound on each of two "
-             "tangent axes, as Bullet and ODE solve it");
+             "tangent axes, as Bullet and ODE solve it")
+        .doc(
+            "`cone`: Coulomb's cone, `friction` times the normal force in every tangent "
+            "direction. `pyramid`: that bound on each of two fixed tangent axes of each contact, "
+            "as Bullet's two friction directions and ODE's `dContactApprox1` solve it, which "
+            "holds up to √2 times more on the diagonals");
     return t;
   }();
   return table;

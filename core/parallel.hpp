@@ -44,13 +44,16 @@ inline int loop_threads(int threads, int count, int grain = 512) {
   return std::clamp(count / std::max(1, grain), 1, std::max(1, threads));
 }
 
+// bytes in a cache line (x86-64 and most ARM cores): data two threads write at once is aligned to
+// it (alignas(kCacheLine)) so that each writes lines of its own
+inline constexpr std::size_t kCacheLine = 64;
+
 // one T for each of N threads (or parts of the work), each on cache lines of its own: threads
 // that push into neighbouring vectors side by side would otherwise hand the line holding their
 // ends back and forth at every push
 template <class T, std::size_t N>
 class PerThread {
  public:
-  static constexpr std::size_t kCacheLine = 64;  // bytes, x86-64 and most ARM cores
   T& operator[](std::size_t k) { return slots_[k].value; }
   const T& operator[](std::size_t k) const { return slots_[k].value; }
   static constexpr std::size_t size() { return N; }
@@ -62,13 +65,12 @@ class PerThread {
   std::array<Slot, N> slots_;
 };
 
-// an allocator whose blocks start on a cache line (64 bytes, x86-64 and most ARM cores): where
-// two threads write the items on either side of a boundary that falls on a line's edge, they
-// then write lines of their own
+// an allocator whose blocks start on a cache line (kCacheLine): where two threads write the items
+// on either side of a boundary that falls on a line's edge, they then write lines of their own
 template <class T>
 struct CacheLineAllocator {
   using value_type = T;
-  static constexpr std::align_val_t kAlignment{64};
+  static constexpr std::align_val_t kAlignment{kCacheLine};
   CacheLineAllocator() = default;
   template <class U>
   CacheLineAllocator(const CacheLineAllocator<U>&) noexcept {}

@@ -14,6 +14,7 @@
 #include "core/frame.hpp"
 #include "core/link_length.hpp"
 #include "core/orientation.hpp"
+#include "core/parallel.hpp"
 #include "core/pin_attachments.hpp"
 #include "core/pin_paths.hpp"
 #include "core/plausible_rings.hpp"
@@ -374,7 +375,7 @@ class PlausibleSim {
   SpatialHash hash_;
   // the contact list's pair walk, one list per part (each on cache lines of its own: the parts
   // push at once), kept from rebuild to rebuild with their memory
-  struct alignas(64) FoundPairs {
+  struct alignas(kCacheLine) FoundPairs {
     std::vector<RingPair> pairs;
   };
   std::vector<FoundPairs> contact_found_;

@@ -81,7 +81,7 @@ void add_colour_stages(SweepBands::Kind kind, std::vector<EdgeConstraint>& pairs
 }
 
 // a band's count of finished stages, on a cache line of its own (threads poll their neighbours')
-struct alignas(64) BandProgress {
+struct alignas(kCacheLine) BandProgress {
   std::atomic<int> stages{0};
 };
 

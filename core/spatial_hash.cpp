@@ -23,7 +23,7 @@ void SpatialHash::build(const Positions& points, double cell_size, int table_siz
   // boxes joined and the finite points listed in index order after
   constexpr std::int64_t kNone = -(std::int64_t{1} << 62);  // not in the grid
   const int team = loop_threads(threads, n, 4096);
-  struct alignas(64) Part {
+  struct alignas(kCacheLine) Part {
     std::int64_t lo[3], hi[3];
     int begin = 0, count = 0;  // points, and finite points among them
   };

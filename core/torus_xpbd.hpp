@@ -107,7 +107,7 @@ struct PairSeed {
 };
 
 // two rings that may touch during this step, with the minima of their distance it follows
-struct alignas(64) RingPairContact {
+struct alignas(kCacheLine) RingPairContact {
   int a = 0, b = 0;  // rings, a < b
   int seeds = 0;     // seeds in use
   std::array<PairSeed, 3> seed;

@@ -9,7 +9,7 @@
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 
-#include "render/renderer.hpp"
+#include "render/types.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
 // Sanitizer builds: LeakSanitizer calls this hook in every program that links the renderer. Mesa

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "render/renderer.hpp"
+#include "render/types.hpp"
 
 namespace chainmail::render {
 
@@ -16,5 +16,8 @@ void draw_label(Image& image, const std::string& text);
 std::string panel_label(const Panel& panel);
 // panels of equal height, left to right
 Image compose_horizontal(const std::vector<Image>& panels);
+
+// PNG through stb_image_write, written to PATH.tmp then renamed; throws RenderError
+void write_png(const Image& image, const std::string& path);
 
 }  // namespace chainmail::render

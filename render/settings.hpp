@@ -4,7 +4,7 @@
 
 #include <Eigen/Core>
 
-#include "render/renderer.hpp"
+#include "render/types.hpp"
 
 namespace chainmail::render {
 
@@ -20,5 +20,9 @@ struct ResolvedSettings {
 // throws RenderError: unknown material or cloth shader, lod_scale not finite or below 0, image
 // size outside 1..16384
 ResolvedSettings resolve_settings(const RenderSettings& settings);
+
+// names accepted by RenderSettings::material and ::cloth_shader
+std::vector<std::string> material_names();
+std::vector<std::string> cloth_shader_names();
 
 }  // namespace chainmail::render

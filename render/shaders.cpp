@@ -5,7 +5,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "render/renderer.hpp"
+#include "render/types.hpp"
 
 namespace chainmail::render {
 namespace {

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "render/gl.hpp"
-#include "render/renderer.hpp"
+#include "render/types.hpp"
 
 namespace chainmail::render {
 

@@ -3,7 +3,11 @@
 
 - no function in bench/, backends/ or render/ longer than 80 lines (header line to closing brace);
 - no C++ source file anywhere in the project longer than 500 lines;
-- no header under core/ includes a JSON header (core depends on Eigen only).
+- no header under core/ includes a JSON header (core depends on Eigen only);
+- no include cycle between files, a header and its source counting as one file (a.cpp including
+  b.hpp and b.cpp including a.hpp is a cycle: neither can be read, built or moved without the
+  other), except the cycles listed in KNOWN_CYCLES, which the restructure of core/ and
+  bench/harness/ removes (a listed cycle that is gone must leave the list).
 
 Functions are found by brace matching after comments, strings and preprocessor lines are removed:
 a block opened at namespace or class scope whose header holds a parameter list is a function.
@@ -20,6 +24,16 @@ FUNCTION_DIRS = ["bench", "backends", "render"]
 MAX_FUNCTION_LINES = 80
 MAX_FILE_LINES = 500
 JSON_INCLUDE = re.compile(r'#\s*include\s*[<"]nlohmann/')
+PROJECT_INCLUDE = re.compile(r'^[ \t]*#[ \t]*include[ \t]*"([^"]+)"', re.M)
+CYCLE_DIRS = SOURCE_DIRS + ["python", "examples"]
+# cycles present when the check was added, each as its sorted files (paths without extension)
+KNOWN_CYCLES = [
+    ["bench/harness/output", "bench/harness/table_cells"],
+    ["bench/harness/scene_file", "bench/harness/scene_file_text"],
+    ["bench/harness/sweep", "bench/harness/sweep_jobs"],
+    ["core/plausible", "core/plausible_blocks", "core/plausible_rings", "core/plausible_sweep",
+     "core/simd_rings"],
+]
 
 
 def strip_code(text):
@@ -116,6 +130,67 @@ def functions(text):
     return found
 
 
+def include_graph(sources):
+    """{file: files it includes}, a file being a path without its extension (a.hpp and a.cpp are
+    one file), the project's own quoted includes only."""
+    files = {str(p.relative_to(ROOT).with_suffix("")) for p in sources}
+    graph = {f: set() for f in files}
+    for path in sources:
+        here = str(path.relative_to(ROOT).with_suffix(""))
+        text = path.read_text(encoding="utf-8", errors="replace")
+        for name in PROJECT_INCLUDE.findall(text):
+            target = str(pathlib.PurePosixPath(name).with_suffix(""))
+            if target in files and target != here:
+                graph[here].add(target)
+    return graph
+
+
+def include_cycles(graph):
+    """The strongly connected components of more than one file (Tarjan, iterative), each sorted."""
+    index, low, on_stack, stack, cycles = {}, {}, set(), [], []
+    for root in sorted(graph):
+        if root in index:
+            continue
+        work = [(root, iter(sorted(graph[root])))]
+        index[root] = low[root] = len(index)
+        stack.append(root)
+        on_stack.add(root)
+        while work:
+            node, edges = work[-1]
+            child = next(edges, None)
+            if child is not None:
+                if child not in index:
+                    index[child] = low[child] = len(index)
+                    stack.append(child)
+                    on_stack.add(child)
+                    work.append((child, iter(sorted(graph[child]))))
+                elif child in on_stack:
+                    low[node] = min(low[node], index[child])
+                continue
+            work.pop()
+            if work:
+                low[work[-1][0]] = min(low[work[-1][0]], low[node])
+            if low[node] == index[node]:
+                component = []
+                while True:
+                    member = stack.pop()
+                    on_stack.discard(member)
+                    component.append(member)
+                    if member == node:
+                        break
+                if len(component) > 1:
+                    cycles.append(sorted(component))
+    return sorted(cycles)
+
+
+def cycle_problems(root_sources):
+    cycles = include_cycles(include_graph(root_sources))
+    problems = [f"include cycle: {' <-> '.join(c)}" for c in cycles if c not in KNOWN_CYCLES]
+    problems += [f"include cycle {' <-> '.join(c)} is gone: remove it from KNOWN_CYCLES"
+                 for c in KNOWN_CYCLES if c not in cycles]
+    return problems
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--list", type=int, metavar="N",
@@ -146,6 +221,9 @@ def main():
                                     f"(limit {MAX_FUNCTION_LINES})")
     if args.list is not None:
         return 0
+    problems += cycle_problems(sorted(p for d in CYCLE_DIRS if (ROOT / d).is_dir()
+                                      for p in (ROOT / d).rglob("*")
+                                      if p.suffix in (".cpp", ".hpp", ".h") and p.is_file()))
     for p in problems:
         print(p)
     print(f"structure: {len(sources)} files, {len(problems)} problems")

@@ -50,6 +50,8 @@ json knob_entry(const KnobSpec& spec) {
     entry["min"] = knob_json(spec, spec.min);
     entry["max"] = knob_json(spec, spec.max);
   }
+  entry["unit"] = spec.unit;
+  entry["doc"] = spec.doc.empty() ? spec.help : spec.doc;
   return entry;
 }
 

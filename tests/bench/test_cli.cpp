@@ -376,6 +376,8 @@ TEST_F(Cli, BackendsListsEveryKnobWithItsTypeDefaultRangeAndHelp) {
       const json& knob = listed[k]["knobs"][n];
       EXPECT_EQ(knob["name"], spec.name);
       EXPECT_EQ(knob["help"], spec.help);
+      EXPECT_EQ(knob["unit"], spec.unit);
+      EXPECT_EQ(knob["doc"], spec.doc.empty() ? spec.help : spec.doc);
       if (spec.type == KnobSpec::Type::choice) {  // the default by name, and every name
         EXPECT_EQ(knob["type"], "choice");
         EXPECT_EQ(knob["default"], choice_name(spec, spec.default_value)) << spec.name;

@@ -4,7 +4,8 @@
 - the schema is a valid JSON Schema (draft 7), and every default and example in it is valid;
 - every scene file under bench/scenes/ validates against it;
 - its backend sections are the registry's knob tables (`chainmail backends --json`): names,
-  types, defaults and ranges; `--update` rewrites them (and the `reference` list) from there;
+  types, defaults and ranges, as scripts/knob_docs.py writes them; `--update` rewrites them (and
+  the `reference` list) from there;
 - it and the parser (`chainmail check`) accept and refuse the same documents: a document with
   every key of the schema, the same document without each required key, with an unknown key in
   each object, with each value of the wrong type, at and past each bound, with each allowed and
@@ -26,6 +27,9 @@ import tempfile
 ROOT = pathlib.Path(__file__).resolve().parent.parent.parent
 SCHEMA_PATH = ROOT / "docs" / "scene.schema.json"
 SKIPPED = 77
+
+sys.path.insert(0, str(ROOT / "scripts"))
+import knob_docs  # noqa: E402  the schema's backend sections, written from the knob tables
 
 try:
     import jsonschema
@@ -65,27 +69,9 @@ def strip_comments(text):
 # ---------------------------------------------------------------------------------------------
 # the schema's backend sections from the registry
 
-def knob_schema(knob):
-    if knob["type"] == "choice":  # one of the names, a JSON string
-        return {"type": "string", "enum": knob["choices"], "default": knob["default"],
-                "description": knob["help"]}
-    node = {"type": knob["type"], "default": knob["default"]}
-    if knob["type"] != "boolean":
-        node["minimum"] = knob["min"]
-        node["maximum"] = knob["max"]
-    node["description"] = knob["help"]
-    return node
-
-
 def backend_sections(registry):
     """{name: schema of its knob object} for the built backends, and every known name."""
-    sections = {}
-    for backend in registry["backends"]:
-        if backend["built"]:
-            sections[backend["name"]] = {
-                "type": "object", "additionalProperties": False, "description": backend["summary"],
-                "properties": {k["name"]: knob_schema(k) for k in backend["knobs"]}}
-    return sections, [b["name"] for b in registry["backends"]]
+    return knob_docs.schema_sections(registry)
 
 
 def check_backends(schema, registry, errors, notes):
@@ -100,20 +86,11 @@ def check_backends(schema, registry, errors, notes):
             notes.append(f"{name} is not built into this binary: its knobs are not compared")
         elif committed.get(name) != sections[name]:
             errors.append(f"backends.{name}: the schema's knobs differ from the registry's "
-                          f"(tests/cli/scene_schema.py --update rewrites them)")
+                          f"(scripts/knob_docs.py rewrites them)")
 
 
-def update_backends(schema, registry):
-    sections, known = backend_sections(registry)
-    committed = schema["properties"]["backends"]["properties"]
-    missing = [name for name in known if name not in sections and name not in committed]
-    if missing:
-        sys.exit(f"scene_schema: {missing} not built and not in the schema: "
-                 "update from a binary with every backend")
-    schema["properties"]["backends"]["properties"] = {
-        name: sections.get(name, committed.get(name)) for name in known}
-    schema["properties"]["reference"]["enum"] = known
-    SCHEMA_PATH.write_text(json.dumps(schema, indent=2, ensure_ascii=False) + "\n")
+def update_backends(registry):
+    SCHEMA_PATH.write_text(knob_docs.schema_text(SCHEMA_PATH.read_text(), registry))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -416,7 +393,7 @@ def main():
     registry = json.loads(subprocess.run([args.chainmail, "backends", "--json"], check=True,
                                          capture_output=True, text=True).stdout)
     if args.update:
-        update_backends(schema_json, registry)
+        update_backends(registry)
         print(f"scene_schema: rewrote the backend sections of {SCHEMA_PATH.relative_to(ROOT)}")
         return 0
 

@@ -20,7 +20,7 @@
 namespace chainmail {
 namespace {
 
-constexpr std::uintptr_t kLine = 64;
+constexpr std::uintptr_t kLine = kCacheLine;
 
 TEST(CacheLineVector, EveryBlockStartsOnACacheLine) {
   // sizes that malloc would otherwise place on 16-byte boundaries
