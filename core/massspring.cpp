@@ -439,37 +439,36 @@ int self_collide(const Model& model, State& state) {
   return pushed;
 }
 
+bool needs(const Model& model, Stage stage) {
+  switch (stage) {
+    case Stage::constrain: return model.settings.correction_passes > 0 && !model.corrected.empty();
+    case Stage::colliders: return !model.colliders.empty();
+    case Stage::self_contact: return model.settings.self_collision;
+    default: return true;
+  }
+}
+
+void run_stage(Stage stage, const Model& model, State& state, double dt, StageProfile& profile) {
+  if (!needs(model, stage)) return;
+  auto scope = profile.scope(stage_name(stage));
+  switch (stage) {
+    case Stage::forces: accumulate_forces(model, state.position, state.force); break;
+    case Stage::integrate: verlet_integrate(model, dt, state); break;
+    case Stage::constrain: constrain(model, state); break;
+    case Stage::colliders: collide(model, state); break;
+    case Stage::self_contact: self_collide(model, state); break;
+  }
+}
+
 void step(const Model& model, State& state, double dt, StageProfile& profile) {
-  {
-    auto scope = profile.scope("forces");
-    accumulate_forces(model, state.position, state.force);
-  }
-  {
-    auto scope = profile.scope("integrate");
-    verlet_integrate(model, dt, state);
-  }
-  if (model.settings.correction_passes > 0 && !model.corrected.empty()) {
-    auto scope = profile.scope("constrain");
-    constrain(model, state);
-  }
-  const bool colliders = !model.colliders.empty();
-  if (colliders) {
-    auto scope = profile.scope("colliders");
-    std::fill(state.contact.begin(), state.contact.end(), 0);
-    collide(model, state);
-  }
+  std::fill(state.contact.begin(), state.contact.end(), 0);  // no mass has touched a collider yet
+  for (const Stage stage : {Stage::forces, Stage::integrate, Stage::constrain, Stage::colliders})
+    run_stage(stage, model, state, dt, profile);
   // self-collision and colliders in turn, so each one's push is seen by the other
   const int rounds = model.settings.self_collision ? model.settings.contact_rounds : 0;
   for (int round = 0; round < rounds; ++round) {
-    {
-      auto scope = profile.scope("self_contact");
-      self_collide(model, state);
-    }
-    // self-collision may have pushed a free mass into a collider: colliders have the last word
-    if (colliders) {
-      auto scope = profile.scope("colliders");
-      collide(model, state);
-    }
+    for (const Stage stage : {Stage::self_contact, Stage::colliders})
+      run_stage(stage, model, state, dt, profile);
   }
   state.t += dt;
 }

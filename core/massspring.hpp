@@ -166,9 +166,21 @@ int collide(const Model& model, State& state);  // returns masses pushed out
 // holds still against a free one. Returns pairs pushed apart.
 int self_collide(const Model& model, State& state);
 
-// one time step: forces, integrate, constrain, collide, then rounds of self_collide + collide
-// (colliders have the last word: self-collision may push a free mass into one); stages a model
-// does not need never run
+// the stages of a step, as its profile names them (stage_name): forces, integrate, constrain,
+// colliders, then rounds of self_contact + colliders (colliders have the last word: self-collision
+// may push a free mass into one)
+enum class Stage : std::uint8_t { forces, integrate, constrain, colliders, self_contact };
+inline const char* stage_name(Stage stage) {
+  constexpr const char* kNames[] = {"forces", "integrate", "constrain", "colliders",
+                                    "self_contact"};
+  return kNames[static_cast<int>(stage)];
+}
+// whether the model needs the stage at all: one it does not need never runs
+bool needs(const Model& model, Stage stage);
+// one stage of a step (where the model needs it), timed in the profile under its name
+void run_stage(Stage stage, const Model& model, State& state, double dt, StageProfile& profile);
+
+// one time step: its stages in order
 void step(const Model& model, State& state, double dt, StageProfile& profile);
 
 }  // namespace chainmail::massspring

@@ -8,36 +8,41 @@
 
 namespace chainmail {
 
+namespace {
+constexpr std::int64_t kNotInGrid = -(std::int64_t{1} << 62);  // a point's cell: in none
+}  // namespace
+
+// the scratch arrays keep their memory from build to build: a sheet rebuilds its candidate list
+// every few substeps, and fresh pages cost more than the sort
 void SpatialHash::build(const Positions& points, double cell_size, int table_size, int threads) {
   const int n = static_cast<int>(points.cols());
   inv_cell_ = 1.0 / cell_size;
+  const int team = loop_threads(threads, n, 4096);
+  std::vector<CellPart> parts(team);
+  locate_points(points, team, parts);
+  std::int64_t lo[3] = {0, 0, 0}, hi[3] = {-1, -1, -1};
+  join_parts(parts, n, team, lo, hi);
+  const std::int64_t table = key_points(n, lo, hi, table_size, team);
+  sort_by_bucket(points, table, threads);
+}
 
-  // cell coordinates of every finite point, and their extent
-  // (the scratch arrays keep their memory from build to build: a sheet rebuilds its candidate
-  // list every few substeps, and fresh pages cost more than the sort)
-  std::vector<int>& finite = scratch_.finite;
+// each part of the points on its own thread: their cells, and the part's box and finite count
+// (kept in locals: parts written in the loop would share cache lines between threads)
+void SpatialHash::locate_points(const Positions& points, int team, std::vector<CellPart>& parts) {
+  const int n = static_cast<int>(points.cols());
   std::vector<std::array<std::int64_t, 3>>& cell = scratch_.cell;
   cell.resize(n);
-  // each part of the points on its own thread: their cells, and the part's box and finite count
-  // (kept in locals: parts written in the loop would share cache lines between threads); the
-  // boxes joined and the finite points listed in index order after
-  constexpr std::int64_t kNone = -(std::int64_t{1} << 62);  // not in the grid
-  const int team = loop_threads(threads, n, 4096);
-  struct alignas(kCacheLine) Part {
-    std::int64_t lo[3], hi[3];
-    int begin = 0, count = 0;  // points, and finite points among them
-  };
-  std::vector<Part> parts(team);
 #pragma omp parallel for schedule(static) num_threads(team)
   for (int t = 0; t < team; ++t) {
     const int begin = static_cast<int>(static_cast<long long>(n) * t / team);
     const int end = static_cast<int>(static_cast<long long>(n) * (t + 1) / team);
-    std::int64_t lo[3] = {kNone, kNone, kNone}, hi[3] = {kNone, kNone, kNone};
+    std::int64_t lo[3] = {kNotInGrid, kNotInGrid, kNotInGrid};
+    std::int64_t hi[3] = {kNotInGrid, kNotInGrid, kNotInGrid};
     int count = 0;
     for (int i = begin; i < end; ++i) {
       const Vec3 p = points.col(i);
       if (!in_grid(p)) {
-        cell[i] = {kNone, 0, 0};
+        cell[i] = {kNotInGrid, 0, 0};
         continue;
       }
       const std::array<std::int64_t, 3> c = {cell_of(p.x()), cell_of(p.y()), cell_of(p.z())};
@@ -50,7 +55,7 @@ void SpatialHash::build(const Positions& points, double cell_size, int table_siz
         hi[a] = std::max(hi[a], c[a]);
       }
     }
-    Part& part = parts[t];
+    CellPart& part = parts[t];
     part.begin = begin;
     part.count = count;
     for (int a = 0; a < 3; ++a) {
@@ -58,9 +63,13 @@ void SpatialHash::build(const Positions& points, double cell_size, int table_siz
       part.hi[a] = hi[a];
     }
   }
-  std::int64_t lo[3] = {0, 0, 0}, hi[3] = {-1, -1, -1};
+}
+
+// the boxes joined, and the finite points listed in index order (each part from its first place)
+void SpatialHash::join_parts(std::vector<CellPart>& parts, int n, int team, std::int64_t lo[3],
+                             std::int64_t hi[3]) {
   int finite_count = 0;
-  for (Part& part : parts) {
+  for (CellPart& part : parts) {
     if (part.count == 0) continue;
     for (int a = 0; a < 3; ++a) {
       lo[a] = finite_count == 0 ? part.lo[a] : std::min(lo[a], part.lo[a]);
@@ -70,21 +79,28 @@ void SpatialHash::build(const Positions& points, double cell_size, int table_siz
     finite_count += part.count;
     part.count = first;  // now the part's first place in the finite list
   }
+  std::vector<int>& finite = scratch_.finite;
+  const std::vector<std::array<std::int64_t, 3>>& cell = scratch_.cell;
   finite.resize(finite_count);
   if (finite_count == n) {
     for (int i = 0; i < n; ++i) finite[i] = i;
-  } else {
+    return;
+  }
 #pragma omp parallel for schedule(static) num_threads(team)
-    for (int t = 0; t < team; ++t) {
-      const int end = t + 1 < team ? parts[t + 1].begin : n;
-      int at = parts[t].count;
-      for (int i = parts[t].begin; i < end; ++i) {
-        if (cell[i][0] != kNone) finite[at++] = i;
-      }
+  for (int t = 0; t < team; ++t) {
+    const int end = t + 1 < team ? parts[t + 1].begin : n;
+    int at = parts[t].count;
+    for (int i = parts[t].begin; i < end; ++i) {
+      if (cell[i][0] != kNotInGrid) finite[at++] = i;
     }
   }
+}
 
-  // dense when the box holds at most 32 cells per point, or at most 4096 cells in all (small sets)
+// dense when the box holds at most 32 cells per point, or at most 4096 cells in all (small sets)
+std::int64_t SpatialHash::key_points(int n, const std::int64_t lo[3], const std::int64_t hi[3],
+                                     int table_size, int team) {
+  const std::vector<int>& finite = scratch_.finite;
+  const std::vector<std::array<std::int64_t, 3>>& cell = scratch_.cell;
   std::int64_t cells = 1;
   for (int a = 0; a < 3; ++a) {
     origin_[a] = lo[a];
@@ -120,13 +136,20 @@ void SpatialHash::build(const Positions& points, double cell_size, int table_siz
       bucket_of[i] = bucket_of_key(key_of[i]);
     }
   }
+  return table;
+}
 
-  // counting sort by bucket, stable (ascending index within a bucket) for any thread count: each
-  // part of the finite points, in index order, counts its points per bucket into a histogram of
-  // its own; the histograms are summed bucket by bucket, part after part, into each part's first
-  // slot in every bucket; each part then places its points in index order. A histogram spans the
-  // table, so the parts run on more than one thread only while the table is small beside the
-  // points (a sheet's grid is)
+// counting sort by bucket, stable (ascending index within a bucket) for any thread count: each
+// part of the finite points, in index order, counts its points per bucket into a histogram of
+// its own; the histograms are summed bucket by bucket, part after part, into each part's first
+// slot in every bucket; each part then places its points in index order. A histogram spans the
+// table, so the parts run on more than one thread only while the table is small beside the
+// points (a sheet's grid is)
+void SpatialHash::sort_by_bucket(const Positions& points, std::int64_t table, int threads) {
+  const std::vector<int>& finite = scratch_.finite;
+  const std::vector<std::uint64_t>& key_of = scratch_.key;
+  const std::vector<int>& bucket_of = scratch_.bucket;
+  const int count = static_cast<int>(finite.size());
   bucket_start_.resize(static_cast<size_t>(table) + 1);
   sorted_.resize(count);
   sorted_key_.resize(count);

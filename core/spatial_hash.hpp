@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/parallel.hpp"
 #include "core/types.hpp"
 
 namespace chainmail {
@@ -110,6 +111,25 @@ class SpatialHash {
     last = bucket_start_[dense_index(x, y, z_hi) + 1];
     return true;
   }
+
+  // build()'s steps, in order. A part of the points, located on a thread of its own (alignas:
+  // parts written side by side would share cache lines between threads)
+  struct alignas(kCacheLine) CellPart {
+    std::int64_t lo[3], hi[3];  // the box of its finite points' cells
+    int begin = 0, count = 0;   // its first point, and its finite points (after join_parts: its
+                                // first place in the finite list)
+  };
+  // every point's cell (kNotInGrid: none), each part's box and finite count
+  void locate_points(const Positions& points, int team, std::vector<CellPart>& parts);
+  // the parts' boxes joined into lo..hi (empty: lo > hi) and the finite points listed in order
+  void join_parts(std::vector<CellPart>& parts, int n, int team, std::int64_t lo[3],
+                  std::int64_t hi[3]);
+  // the layout (dense or hashed) over the box, and every finite point's key and bucket; returns
+  // the number of buckets
+  std::int64_t key_points(int n, const std::int64_t lo[3], const std::int64_t hi[3],
+                          int table_size, int team);
+  // the finite points sorted by bucket into sorted_, stably, with their keys and positions
+  void sort_by_bucket(const Positions& points, std::int64_t table, int threads);
 
   double inv_cell_ = 1.0;
   bool dense_ = false;

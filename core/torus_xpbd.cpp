@@ -39,9 +39,35 @@ void carry_pair(int a, int b, std::vector<RingPairContact>& into,
   }
 }
 
+// the two halves: the rings on either side of the median of their rest layout along its longest
+// axis across gravity (a hanging sheet splits into left and right, each with its share of the
+// pins, and each half's links keep their order outward from the supports)
+void split_rings(const Scene& scene, const Weave& weave, TorusXpbdModel& model) {
+  const int n = weave.size();
+  int down = -1;
+  if (scene.gravity.squaredNorm() > 0.0) scene.gravity.cwiseAbs().maxCoeff(&down);
+  int axis = 0;
+  double widest = -1.0;
+  for (int k = 0; k < 3 && n > 0; ++k) {
+    if (k == down) continue;
+    const double extent =
+        weave.rest_position.row(k).maxCoeff() - weave.rest_position.row(k).minCoeff();
+    if (extent > widest) widest = extent, axis = k;
+  }
+  std::vector<int> order(n);
+  for (int i = 0; i < n; ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](int x, int y) {
+    const double px = weave.rest_position(axis, x), py = weave.rest_position(axis, y);
+    return px != py ? px < py : x < y;
+  });
+  model.part.assign(n, 0);
+  for (int k = n / 2; k < n; ++k) model.part[order[k]] = 1;
+  for (auto& rings : model.part_rings) rings.clear();
+  for (int i = 0; i < n; ++i) model.part_rings[model.part[i]].push_back(i);
+}
+
 }  // namespace
 
-// the fixed model: mass and inertia of the solid torus scaled by any load, pins immovable
 TorusXpbdModel make_model(const Scene& scene, const Weave& weave,
                           const TorusXpbdSettings& settings) {
   const int n = weave.size();
@@ -70,6 +96,8 @@ TorusXpbdModel make_model(const Scene& scene, const Weave& weave,
   model.ring_friction = settings.friction * scene.ring_friction;
   model.gravity = scene.gravity;
   model.self_contact = scene.self_contact;
+  split_rings(scene, weave, model);
+  model.scan_spacing = scene.ring.centre_radius * std::numbers::pi / CirclePairDistance::kSamples;
   return model;
 }
 
@@ -94,35 +122,7 @@ void TorusXpbdSim::reset(const Scene& scene, const Weave& weave,
   state_.previous_orientation = state_.orientation;
   state_.still_time.assign(n, 0.0);
   state_.asleep.assign(n, 0);
-  split_rings(scene, weave);
   reset_scratch();
-}
-
-// the two halves: the rings on either side of the median of their rest layout along its longest
-// axis across gravity (a hanging sheet splits into left and right, each with its share of the
-// pins, and each half's links keep their order outward from the supports)
-void TorusXpbdSim::split_rings(const Scene& scene, const Weave& weave) {
-  const int n = weave.size();
-  int down = -1;
-  if (scene.gravity.squaredNorm() > 0.0) scene.gravity.cwiseAbs().maxCoeff(&down);
-  int axis = 0;
-  double widest = -1.0;
-  for (int k = 0; k < 3 && n > 0; ++k) {
-    if (k == down) continue;
-    const double extent =
-        weave.rest_position.row(k).maxCoeff() - weave.rest_position.row(k).minCoeff();
-    if (extent > widest) widest = extent, axis = k;
-  }
-  std::vector<int> order(n);
-  for (int i = 0; i < n; ++i) order[i] = i;
-  std::sort(order.begin(), order.end(), [&](int x, int y) {
-    const double px = weave.rest_position(axis, x), py = weave.rest_position(axis, y);
-    return px != py ? px < py : x < y;
-  });
-  part_.assign(n, 0);
-  for (int k = n / 2; k < n; ++k) part_[order[k]] = 1;
-  for (auto& rings : part_rings_) rings.clear();
-  for (int i = 0; i < n; ++i) part_rings_[part_[i]].push_back(i);
 }
 
 // the per-step and per-substep scratch, sized once; linked neighbours are contact pairs for good
@@ -144,7 +144,6 @@ void TorusXpbdSim::reset_scratch() {
   for (std::size_t k = 0; k < link_order_.size(); ++k) link_order_[k] = static_cast<int>(k);
   support_depth_.assign(n, -1);
   near_collider_.assign(n, 0);
-  scan_spacing_ = model_.ring.centre_radius * std::numbers::pi / CirclePairDistance::kSamples;
   queue_.reserve(n);
   touching_.assign(n, 0);
   hash_pairs_.clear();
@@ -160,7 +159,7 @@ void TorusXpbdSim::reset_scratch() {
 // candidate pairs and collider candidates for the whole step: whatever the step's motion can
 // bring into contact, from a bound on each ring's speed
 void TorusXpbdSim::collect_pairs(double dt) {
-  auto scope = profile_.scope("collect_pairs");
+  auto scope = profile_.scope(stage_name(TorusXpbdStage::collect_pairs));
   const int n = static_cast<int>(state_.position.size());
   const double a = model_.ring.wire_radius, c = model_.ring.centre_radius;
   double& fastest = fastest_;
@@ -179,7 +178,7 @@ void TorusXpbdSim::collect_pairs(double dt) {
   std::size_t cursor = 0;
 
   if (model_.self_contact && n > 1) {
-    auto others = profile_.scope("self_contact");
+    auto others = profile_.scope(stage_name(TorusXpbdStage::self_contact));
     const double radius = 2.0 * (c + a) + 2.0 * fastest * dt + slack;
     for (int i = 0; i < n; ++i) centres_.col(i) = state_.position[i];
     hash_.build(centres_, radius);
@@ -207,7 +206,7 @@ void TorusXpbdSim::collect_pairs(double dt) {
 
   for (auto& candidates : part_candidates_) candidates.clear();
   if (model_.colliders.empty()) return;
-  auto colliders = profile_.scope("colliders");
+  auto colliders = profile_.scope(stage_name(TorusXpbdStage::colliders));
   // ring-major like the last step's list, whose deepest angles carry over
   previous_candidates_.swap(collider_candidates_);
   collider_candidates_.clear();
@@ -225,7 +224,7 @@ void TorusXpbdSim::collect_pairs(double dt) {
       if (last < previous_candidates_.size() && previous_candidates_[last].ring == i &&
           previous_candidates_[last].collider == k)
         candidate = previous_candidates_[last];
-      part_candidates_[part_[i]].push_back(static_cast<int>(collider_candidates_.size()));
+      part_candidates_[model_.part[i]].push_back(static_cast<int>(collider_candidates_.size()));
       collider_candidates_.push_back(candidate);
     }
   }
@@ -290,7 +289,7 @@ void TorusXpbdSim::mark_near_colliders() {
 }
 
 void TorusXpbdSim::integrate(double h, int part) {
-  for (int i : part_rings_[part]) {
+  for (int i : model_.part_rings[part]) {
     state_.previous_position[i] = state_.position[i];
     state_.previous_orientation[i] = state_.orientation[i];
     previous_rotation_[i] = rotation_[i];
@@ -317,7 +316,7 @@ void TorusXpbdSim::integrate(double h, int part) {
 void TorusXpbdSim::update_velocities(double h, int part) {
   const double keep = std::exp(-model_.settings.damping * h);
   const double c = model_.ring.centre_radius;
-  for (int i : part_rings_[part]) {
+  for (int i : model_.part_rings[part]) {
     if (model_.inverse_mass[i] == 0.0) continue;
     const Vec3 v = (state_.position[i] - state_.previous_position[i]) / h;
     const Quat turn = state_.orientation[i] * state_.previous_orientation[i].conjugate();

@@ -63,6 +63,9 @@ struct TorusXpbdSettings {
   FrictionLaw friction_law = FrictionLaw::cone;
 };
 
+// the halves of the fabric that a step solves side by side (the class's kParts)
+inline constexpr int kTorusXpbdParts = 2;
+
 // fixed model: built once from the scene
 struct TorusXpbdModel {
   RingGeometry ring;
@@ -79,7 +82,16 @@ struct TorusXpbdModel {
   Vec3 gravity = Vec3::Zero();            // m/s^2
   bool self_contact = true;
   TorusXpbdSettings settings;
+  // the halves: the half of each ring (0 or 1), and the rings of each
+  std::vector<char> part;                                     // (n)
+  std::array<std::vector<int>, kTorusXpbdParts> part_rings;  // ring indices, ascending
+  // m, how much nearer than the nearest of a scan's samples the circles may come between them:
+  // the distance changes by at most the radius per radian, and half a spacing is pi / kSamples
+  double scan_spacing = 0.0;
 };
+// mass and inertia of the solid torus scaled by any load, pins immovable, the halves split
+TorusXpbdModel make_model(const Scene& scene, const Weave& weave,
+                          const TorusXpbdSettings& settings);
 
 // changing state
 struct TorusXpbdState {
@@ -147,6 +159,19 @@ struct ColliderCandidate {
   bool followed = false;            // that angle is from the last substep
 };
 
+// the stages of a step, as its profile names them (stage_name): collect_pairs once, then the
+// others in each substep, in the order of TorusXpbdSim's substep table
+enum class TorusXpbdStage : std::uint8_t {
+  collect_pairs,  // candidate ring pairs and collider candidates for the whole step
+  integrate,      // gravity and the gyroscopic term: positions and orientations predicted
+  colliders,      // rings out of the colliders, and their static friction after the rings' pull
+  contacts,       // the linked neighbours' contacts, in their order outward from the supports
+  self_contact,   // the other pairs' contacts
+  velocities,     // from the pose change over the substep (and drag)
+  velocity_pass,  // restitution and dynamic friction at the contacts that pushed
+};
+const char* stage_name(TorusXpbdStage stage);
+
 class TorusXpbdSim {
  public:
   void reset(const Scene& scene, const Weave& weave, const TorusXpbdSettings& settings);
@@ -174,20 +199,50 @@ class TorusXpbdSim {
     return sum;
   }
   // the half each ring is solved in (0 or 1)
-  const std::vector<char>& ring_part() const { return part_; }
+  const std::vector<char>& ring_part() const { return model_.part; }
 
   // the halves, and the contacts between them
-  static constexpr int kParts = 2;
+  static constexpr int kParts = kTorusXpbdParts;
   static constexpr int kSeam = kParts;
 
  private:
   void reset_scratch();
-  void split_rings(const Scene& scene, const Weave& weave);
-  int pair_part(int a, int b) const { return part_[a] == part_[b] ? part_[a] : kSeam; }
+  int pair_part(int a, int b) const {
+    return model_.part[a] == model_.part[b] ? model_.part[a] : kSeam;
+  }
   // the step's phases (torus_xpbd.cpp); `part`: a half, or kSeam
   void collect_pairs(double dt);
   // substep k of this step is stamped first_stamp + k
   void run_substeps(double h, int substeps, int team, std::uint64_t first_stamp);
+  // one substep on one thread of the team (torus_xpbd_step.cpp)
+  struct Substep;
+  // a row of the substep table: a stage's work on a half, then (null: none) its work across the
+  // seam; `needed` (null: always) says whether it runs in this substep
+  struct SubstepStage {
+    TorusXpbdStage stage;
+    void (TorusXpbdSim::*half)(Substep&, int part);
+    void (TorusXpbdSim::*seam)(Substep&);
+    bool (TorusXpbdSim::*needed)(const Substep&) const;
+  };
+  static const SubstepStage kSubstepStages[];
+  void run_substep(Substep& sub);
+  void run_halves(Substep& sub, std::size_t first, std::size_t last);
+  bool runs(const SubstepStage& row, const Substep& sub) const;
+  // the substep table's work (torus_xpbd_step.cpp)
+  void start_half(Substep& sub, int part);
+  void collide_half(Substep& sub, int part);
+  void first_link_pass(Substep& sub, int part);
+  void seam_link_passes(Substep& sub);
+  void last_link_passes(Substep& sub, int part);
+  void other_pairs_half(Substep& sub, int part);
+  void other_pairs_seam(Substep& sub);
+  void friction_half(Substep& sub, int part);
+  void velocities_half(Substep& sub, int part);
+  void first_velocity_pass(Substep& sub, int part);
+  void velocity_passes(Substep& sub);
+  bool has_colliders(const Substep& sub) const;
+  bool links_left(const Substep& sub) const;
+  bool has_other_pairs(const Substep& sub) const;
   void integrate(double h, int part);
   void update_velocities(double h, int part);
   void update_sleep(double dt);
@@ -261,11 +316,6 @@ class TorusXpbdSim {
   std::array<std::vector<int>, kParts + 1> part_links_;   // indices into link_pairs_
   std::array<std::vector<int>, kParts + 1> part_others_;  // indices into other_pairs_
   std::array<std::vector<int>, kParts> part_candidates_;  // indices into collider_candidates_
-  std::array<std::vector<int>, kParts> part_rings_;       // the rings of each half
-  std::vector<char> part_;                                // (n) the half of each ring
-  // m, how much nearer than the nearest of a scan's samples the circles may come between them:
-  // the distance changes by at most the radius per radian, and half a spacing is pi / kSamples
-  double scan_spacing_ = 0.0;
   int threads_ = 1;
   std::vector<int> support_depth_;   // (n) links from the nearest support, -1 none
   std::vector<int> queue_;           // (n) breadth-first scratch

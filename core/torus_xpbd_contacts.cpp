@@ -48,6 +48,33 @@ void tangent_axes(const Vec3& n, Vec3& t1, Vec3& t2) {
   t2 = n.cross(t1);
 }
 
+// the seed followed to the minimum it tracks on the pair's pose now (its angle, normal and bound
+// updated, the closest points in `p`); returns the signed distance there, m
+double follow_seed(PairSeed& seed, const CircleFrame& fa, const CircleFrame& fb,
+                   std::uint64_t stamp, double c, ClosestPoints& p) {
+  // a retry in the substep that solved the seed keeps its angle: the pair moved by one
+  // correction since, and the distance there is an upper bound (never over-corrects)
+  const int newton_steps = seed.pushed == stamp ? 0
+                           : seed.recent        ? kSubstepNewton
+                                                : kResumeNewton;
+  p = refine_closest_points(fa, fb, seed.cos_t, seed.sin_t, newton_steps, 1e-10);
+  // the side is the seed's while it follows one minimum: circles that crossed within the
+  // substep (wires pushed through each other) have their gap reversed, a negative distance
+  const bool same = seed.recent && angle_cos(seed, p.cos_t, p.sin_t) > kSameMinimum;
+  double distance = p.distance;
+  if (p.distance > 1e-12 * c) {
+    const Vec3 normal = (1.0 / p.distance) * (p.first - p.second);
+    if (same && normal.dot(seed.normal) < 0.0) {
+      seed.normal = -normal, distance = -distance;
+    } else {
+      seed.normal = normal;
+    }
+  }
+  seed.cos_t = p.cos_t, seed.sin_t = p.sin_t;
+  seed.bound = p.distance, seed.recent = true;
+  return distance;
+}
+
 }  // namespace
 
 // one pair in one substep: new minima that could touch before the next scan are seeded (when
@@ -68,7 +95,7 @@ double TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan, int 
   const double fast = 2.0 * fastest_ * h + kSolveMotion * a;
   const double limit = 2.0 * a + kScanReach * std::max(reach, fast);  // m
   pair.clear -= reach;  // (twice in a substep for a retried link: it only shrinks)
-  scan = scan && pair.clear <= limit + scan_spacing_;
+  scan = scan && pair.clear <= limit + model_.scan_spacing;
   if (!scan) {
     bool near = false;
     for (int k = 0; k < pair.seeds && !near; ++k) near = pair.seed[k].bound <= touch;
@@ -95,27 +122,8 @@ double TorusXpbdSim::solve_pair(RingPairContact& pair, double h, bool scan, int 
       fa = circle_of(pair.a), fb = circle_of(pair.b);
       stale = false;
     }
-    // a retry in the substep that solved the seed keeps its angle: the pair moved by one
-    // correction since, and the distance there is an upper bound (never over-corrects)
-    const int newton_steps = seed.pushed == stamp ? 0
-                             : seed.recent        ? kSubstepNewton
-                                                  : kResumeNewton;
-    const ClosestPoints p =
-        refine_closest_points(fa, fb, seed.cos_t, seed.sin_t, newton_steps, 1e-10);
-    // the side is the seed's while it follows one minimum: circles that crossed within the
-    // substep (wires pushed through each other) have their gap reversed, a negative distance
-    const bool same = seed.recent && angle_cos(seed, p.cos_t, p.sin_t) > kSameMinimum;
-    double distance = p.distance;
-    if (p.distance > 1e-12 * c) {
-      const Vec3 normal = (1.0 / p.distance) * (p.first - p.second);
-      if (same && normal.dot(seed.normal) < 0.0) {
-        seed.normal = -normal, distance = -distance;
-      } else {
-        seed.normal = normal;
-      }
-    }
-    seed.cos_t = p.cos_t, seed.sin_t = p.sin_t;
-    seed.bound = p.distance, seed.recent = true;
+    ClosestPoints p;
+    const double distance = follow_seed(seed, fa, fb, stamp, c, p);
     // a seed that found an earlier one's minimum is dropped (far ones stay: their bound keeps
     // them unsolved until they come near)
     bool keep = true;
@@ -147,7 +155,7 @@ void TorusXpbdSim::find_new_minima(RingPairContact& pair, const CirclePairDistan
                                    double limit) {
   // the distance moves at most r per radian along the circle: half a sample spacing may hide this
   constexpr int kSamples = CirclePairDistance::kSamples;
-  const double hidden = scan_spacing_;
+  const double hidden = model_.scan_spacing;
   const double reach2 = (limit + hidden) * (limit + hidden);
   double f[kSamples];
   distance.sample(f);

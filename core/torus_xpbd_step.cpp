@@ -2,6 +2,7 @@
 // and then the seam between them (torus_xpbd.hpp), and the link passes of the contact phase.
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "core/parallel.hpp"
 #include "core/torus_xpbd.hpp"
@@ -55,6 +56,20 @@ void team_barrier(int team) {
 
 }  // namespace
 
+const char* stage_name(TorusXpbdStage stage) {
+  switch (stage) {
+    case TorusXpbdStage::collect_pairs: return "collect_pairs";
+    case TorusXpbdStage::integrate: return "integrate";
+    case TorusXpbdStage::colliders: return "colliders";
+    case TorusXpbdStage::contacts: return "contacts";
+    case TorusXpbdStage::self_contact: return "self_contact";
+    case TorusXpbdStage::velocities: return "velocities";
+    case TorusXpbdStage::velocity_pass: return "velocity_pass";
+  }
+  return "?";
+}
+
+// collect_pairs, then the substeps (each a walk over kSubstepStages), then sleep
 bool TorusXpbdSim::step(double dt) {
   for (std::size_t part = 0; part < velocity_solves_.size(); ++part) velocity_solves_[part] = 0;
   collect_pairs(dt);
@@ -65,7 +80,7 @@ bool TorusXpbdSim::step(double dt) {
       std::max(model_.settings.substeps,
                static_cast<int>(std::min(std::ceil(travel), double{kMaxSubsteps})));
   const double h = dt / substeps;
-  const int team = parallel_loops_available() && static_cast<int>(part_.size()) >= kThreadedRings
+  const int team = parallel_loops_available() && static_cast<int>(model_.part.size()) >= kThreadedRings
                        ? std::min(threads_, kParts)
                        : 1;
   // substeps are stamped from 1 (a seed's `pushed` starts at 0)
@@ -78,124 +93,190 @@ bool TorusXpbdSim::step(double dt) {
   return finite();
 }
 
-// the substeps, on each thread of the team: every phase solves the halves (both on one thread, one
-// each on two) and then, on the first thread, the contacts between them. Every thread meets every
-// barrier: the loops' trip counts come from state the phase before left. Steps that touch only
-// one half's rings follow each other within a phase with no barrier between (a half's colliders
-// and first link pass see only its own rings, which its own integration moved): the order, and
-// the result, are those of one barrier after each.
-void TorusXpbdSim::run_substeps(double h, int substeps, int team, std::uint64_t first_stamp) {
-  const int thread = team > 1 ? team_thread() : 0;
-  const bool lead = thread == 0;  // keeps the profile, solves the seam
-  const auto each_half = [&](const auto& solve) {
+// one substep as one thread of the team sees it. Every thread meets every barrier: the loops' trip
+// counts, and whether a stage runs, come from state the phase before left
+struct TorusXpbdSim::Substep {
+  double h = 0.0;  // s
+  bool scan = false;
+  std::uint64_t stamp = 0;
+  int team = 1, thread = 0;
+  bool lead = true;     // keeps the profile, solves the seam
+  int link_passes = 0;  // the retry passes seam_link_passes took
+
+  // `solve` on each half (both on one thread, one each on two), then the barrier
+  template <class Solve>
+  void each_half(const Solve& solve) const {
     for (int part = 0; part < kParts; ++part)
       if (team == 1 || part == thread) solve(part);
     team_barrier(team);
-  };
-  const auto seam = [&](const auto& solve) {
+  }
+  // `solve` on the contacts between the halves, on the lead, then the barrier
+  template <class Solve>
+  void seam(const Solve& solve) const {
     if (lead) solve(kSeam);
     team_barrier(team);
-  };
-  const auto halves_then_seam = [&](const auto& solve) {
-    each_half(solve);
-    seam(solve);
-  };
-  const bool colliders = !collider_candidates_.empty();
+  }
+};
+
+// a substep's stages in order. Each half integrated, then its colliders (the rings' own contacts
+// then see where the colliders put them), then its links in their order; the seam's links, and
+// the retries of those that pushed deep or hold a ring against a collider (one Gauss-Seidel pass
+// leaves a link carrying much of a sheet's weight short by a share of it); the other pairs; the
+// colliders' static friction once more, after the rings' pull; velocities; the velocity passes
+const TorusXpbdSim::SubstepStage TorusXpbdSim::kSubstepStages[] = {
+    {TorusXpbdStage::integrate, &TorusXpbdSim::start_half, nullptr, nullptr},
+    {TorusXpbdStage::colliders, &TorusXpbdSim::collide_half, nullptr,
+     &TorusXpbdSim::has_colliders},
+    {TorusXpbdStage::contacts, &TorusXpbdSim::first_link_pass, &TorusXpbdSim::seam_link_passes,
+     nullptr},
+    {TorusXpbdStage::contacts, &TorusXpbdSim::last_link_passes, nullptr,
+     &TorusXpbdSim::links_left},
+    {TorusXpbdStage::self_contact, &TorusXpbdSim::other_pairs_half,
+     &TorusXpbdSim::other_pairs_seam, &TorusXpbdSim::has_other_pairs},
+    {TorusXpbdStage::colliders, &TorusXpbdSim::friction_half, nullptr,
+     &TorusXpbdSim::has_colliders},
+    {TorusXpbdStage::velocities, &TorusXpbdSim::velocities_half, nullptr, nullptr},
+    {TorusXpbdStage::velocity_pass, &TorusXpbdSim::first_velocity_pass,
+     &TorusXpbdSim::velocity_passes, nullptr},
+};
+
+void TorusXpbdSim::run_substeps(double h, int substeps, int team, std::uint64_t first_stamp) {
+  Substep sub;
+  sub.h = h;
+  sub.team = team;
+  sub.thread = team > 1 ? team_thread() : 0;
+  sub.lead = sub.thread == 0;
   for (int k = 0; k < substeps; ++k) {
-    const bool scan = k % kScanInterval == 0;
-    const std::uint64_t stamp = first_stamp + static_cast<std::uint64_t>(k);
-    // each half: integrated, then its colliders (the rings' own contacts then see where the
-    // colliders put them), then its links in their order. The links, then again those that pushed
-    // deep or hold a ring against a collider: one Gauss-Seidel pass leaves a link carrying much of
-    // a sheet's weight (a corner that holds half of it, a ring pressed between a collider and the
-    // rings it carries) short by a share of that weight
-    each_half([&](int part) {
-      {
-        auto scope = profile_.scope_if(lead, "integrate");
-        if (part == 0) active_[kSeam].clear();  // the lead's: the seam's solve comes after
-        active_[part].clear();
-        collider_holds_[part].clear();
-        integrate(h, part);
-      }
-      if (colliders) {
-        auto scope = profile_.scope_if(lead, "colliders");
-        solve_colliders(h, scan, part);
-      }
-      auto scope = profile_.scope_if(lead, "contacts");
-      solve_links(h, scan, part, true, stamp);
-    });
-    {
-      auto scope = profile_.scope_if(lead, "contacts");
-      // (whether any link is left is the lead's to say, in the seam's phase: the halves' lists
-      // change again once both threads have read it)
-      const auto seam_links = [&](bool first) {
-        seam([&](int part) {
-          solve_links(h, scan, part, first, stamp);
-          seam_retrying_ = !retry_[kSeam].empty();
-          retrying_ = seam_retrying_ || !(retry_[0].empty() && retry_[1].empty());
-        });
-      };
-      seam_links(true);
-      // the retry passes, each half's and then the seam's, while the seam has links to retry; then
-      // each half's remaining passes and its other pairs back to back, with no barrier between
-      // them, and the seam's other pairs. A half's retries and other pairs move only its own
-      // rings, and a part's list only shrinks (the seam's, once empty, stays so): the order, and
-      // the result, are those of taking every pass in turn
-      int pass = 0;
-      for (; pass < kRetryPasses && seam_retrying_; ++pass) {
-        each_half([&](int part) { solve_links(h, scan, part, false, stamp); });
-        seam_links(false);
-      }
-      const bool others = !other_pairs_.empty();
-      if (others || (pass < kRetryPasses && retrying_)) {
-        each_half([&](int part) {
-          for (int more = pass; more < kRetryPasses && !retry_[part].empty(); ++more)
-            solve_links(h, scan, part, false, stamp);
-          if (others) {
-            auto scope = profile_.scope_if(lead, "self_contact");
-            solve_other_pairs(h, scan, part, stamp);
-          }
-        });
-      }
-      if (others) {
-        auto scope = profile_.scope_if(lead, "self_contact");
-        seam([&](int part) { solve_other_pairs(h, scan, part, stamp); });
-      }
+    sub.scan = k % kScanInterval == 0;
+    sub.stamp = first_stamp + static_cast<std::uint64_t>(k);
+    run_substep(sub);
+  }
+}
+
+// the table walked: stages with no work across the seam run back to back within each half with no
+// barrier between (each touches only its half's rings, which the half's stages before moved: the
+// order, and the result, are those of one barrier after each), up to one that has such work,
+// which follows the halves' barrier
+void TorusXpbdSim::run_substep(Substep& sub) {
+  constexpr std::size_t count = std::size(kSubstepStages);
+  std::size_t first = 0;
+  for (std::size_t last = 0; last < count; ++last) {
+    const SubstepStage& row = kSubstepStages[last];
+    if (!row.seam && last + 1 < count) continue;
+    run_halves(sub, first, last + 1);
+    if (row.seam && runs(row, sub)) {
+      auto scope = profile_.scope_if(sub.lead, stage_name(row.stage));
+      (this->*row.seam)(sub);
     }
-    // each half: the colliders' static friction once more, its velocities from the substep's
-    // motion, what the velocity pass needs from the poses (which it does not change), and the
-    // first velocity pass over its contacts (they join only its own rings, which it has just
-    // updated); then the seam's, prepared by the lead first. The later passes over every contact
-    // alternate the same way, and then those near colliders (none: no more passes; the lists are
-    // read by both threads here and written again only in the next substep's prepare)
-    const int passes = model_.settings.velocity_iterations;
-    const int everywhere = std::min(passes, kEveryContactPasses);
-    each_half([&](int part) {
-      if (colliders) {
-        auto scope = profile_.scope_if(lead, "colliders");
-        hold_collider_friction(h, part);
-      }
-      {
-        auto scope = profile_.scope_if(lead, "velocities");
-        update_velocities(h, part);
-      }
-      auto scope = profile_.scope_if(lead, "velocity_pass");
-      prepare_velocity_pass(part);
-      if (everywhere > 0) velocity_sweep(h, part, true);
-    });
-    auto scope = profile_.scope_if(lead, "velocity_pass");
-    for (int iteration = 0; iteration < everywhere; ++iteration) {
-      if (iteration > 0) each_half([&](int part) { velocity_sweep(h, part, true); });
-      seam([&](int part) {
-        if (iteration == 0) prepare_velocity_pass(part);
-        velocity_sweep(h, part, true);
-      });
+    first = last + 1;
+  }
+}
+
+// the half work of stages [first, last), where any of them runs
+void TorusXpbdSim::run_halves(Substep& sub, std::size_t first, std::size_t last) {
+  bool any = false;
+  for (std::size_t k = first; k < last && !any; ++k) any = runs(kSubstepStages[k], sub);
+  if (!any) return;
+  sub.each_half([&](int part) {
+    for (std::size_t k = first; k < last; ++k) {
+      const SubstepStage& row = kSubstepStages[k];
+      if (!runs(row, sub)) continue;
+      auto scope = profile_.scope_if(sub.lead, stage_name(row.stage));
+      (this->*row.half)(sub, part);
     }
-    bool near_colliders = false;
-    for (std::size_t part = 0; part < near_collider_contacts_.size(); ++part)
-      near_colliders = near_colliders || !near_collider_contacts_[part].empty();
-    for (int iteration = everywhere; near_colliders && iteration < passes; ++iteration)
-      halves_then_seam([&](int part) { velocity_sweep(h, part, false); });
+  });
+}
+
+bool TorusXpbdSim::runs(const SubstepStage& row, const Substep& sub) const {
+  return !row.needed || (this->*row.needed)(sub);
+}
+
+bool TorusXpbdSim::has_colliders(const Substep&) const { return !collider_candidates_.empty(); }
+bool TorusXpbdSim::links_left(const Substep& sub) const {
+  return sub.link_passes < kRetryPasses && retrying_;
+}
+bool TorusXpbdSim::has_other_pairs(const Substep&) const { return !other_pairs_.empty(); }
+
+void TorusXpbdSim::start_half(Substep& sub, int part) {
+  if (part == 0) active_[kSeam].clear();  // the lead's: the seam's solve comes after
+  active_[part].clear();
+  collider_holds_[part].clear();
+  integrate(sub.h, part);
+}
+
+void TorusXpbdSim::collide_half(Substep& sub, int part) { solve_colliders(sub.h, sub.scan, part); }
+
+void TorusXpbdSim::first_link_pass(Substep& sub, int part) {
+  solve_links(sub.h, sub.scan, part, true, sub.stamp);
+}
+
+// the seam's links, then the retry passes, each half's and then the seam's, while the seam has
+// links to retry (whether any link is left is the lead's to say, in the seam's phase: the halves'
+// lists change again once both threads have read it)
+void TorusXpbdSim::seam_link_passes(Substep& sub) {
+  const auto seam_links = [&](bool first) {
+    sub.seam([&](int part) {
+      solve_links(sub.h, sub.scan, part, first, sub.stamp);
+      seam_retrying_ = !retry_[kSeam].empty();
+      retrying_ = seam_retrying_ || !(retry_[0].empty() && retry_[1].empty());
+    });
+  };
+  seam_links(true);
+  int pass = 0;
+  for (; pass < kRetryPasses && seam_retrying_; ++pass) {
+    sub.each_half([&](int part) { solve_links(sub.h, sub.scan, part, false, sub.stamp); });
+    seam_links(false);
+  }
+  sub.link_passes = pass;
+}
+
+// each half's remaining retry passes, back to back with its other pairs: a half's retries and
+// other pairs move only its own rings, and a part's list only shrinks (the seam's, once empty,
+// stays so): the order, and the result, are those of taking every pass in turn
+void TorusXpbdSim::last_link_passes(Substep& sub, int part) {
+  for (int more = sub.link_passes; more < kRetryPasses && !retry_[part].empty(); ++more)
+    solve_links(sub.h, sub.scan, part, false, sub.stamp);
+}
+
+void TorusXpbdSim::other_pairs_half(Substep& sub, int part) {
+  solve_other_pairs(sub.h, sub.scan, part, sub.stamp);
+}
+
+void TorusXpbdSim::other_pairs_seam(Substep& sub) {
+  sub.seam([&](int part) { solve_other_pairs(sub.h, sub.scan, part, sub.stamp); });
+}
+
+void TorusXpbdSim::friction_half(Substep& sub, int part) { hold_collider_friction(sub.h, part); }
+
+void TorusXpbdSim::velocities_half(Substep& sub, int part) { update_velocities(sub.h, part); }
+
+// what the velocity pass needs from the poses (which it does not change), and the first pass over
+// the half's contacts (they join only its own rings, which it has just updated)
+void TorusXpbdSim::first_velocity_pass(Substep& sub, int part) {
+  prepare_velocity_pass(part);
+  if (std::min(model_.settings.velocity_iterations, kEveryContactPasses) > 0)
+    velocity_sweep(sub.h, part, true);
+}
+
+// the seam's first pass, prepared by the lead first; the later passes over every contact
+// alternate the same way, and then those near colliders (none: no more passes; the lists are
+// read by both threads here and written again only in the next substep's prepare)
+void TorusXpbdSim::velocity_passes(Substep& sub) {
+  const int passes = model_.settings.velocity_iterations;
+  const int everywhere = std::min(passes, kEveryContactPasses);
+  for (int iteration = 0; iteration < everywhere; ++iteration) {
+    if (iteration > 0) sub.each_half([&](int part) { velocity_sweep(sub.h, part, true); });
+    sub.seam([&](int part) {
+      if (iteration == 0) prepare_velocity_pass(part);
+      velocity_sweep(sub.h, part, true);
+    });
+  }
+  bool near_colliders = false;
+  for (std::size_t part = 0; part < near_collider_contacts_.size(); ++part)
+    near_colliders = near_colliders || !near_collider_contacts_[part].empty();
+  for (int iteration = everywhere; near_colliders && iteration < passes; ++iteration) {
+    sub.each_half([&](int part) { velocity_sweep(sub.h, part, false); });
+    sub.seam([&](int part) { velocity_sweep(sub.h, part, false); });
   }
 }
 

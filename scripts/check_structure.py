@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Structure rules the code base keeps (run by ctest as `structure`):
 
-- no function in bench/, backends/ or render/ longer than 80 lines (header line to closing brace);
+- no production function (core/, backends/, bench/, render/, python/; C++ and Python) longer than
+  80 lines (header line to closing brace), but for those listed in OVER_LIMIT;
 - no C++ source file anywhere in the project longer than 500 lines;
 - no header under core/ includes a JSON header (core depends on Eigen only);
 - no include cycle between files, a header and its source counting as one file (a.cpp including
@@ -14,15 +15,19 @@ a block opened at namespace or class scope whose header holds a parameter list i
 `--list N` prints every function longer than N lines instead of checking.
 """
 import argparse
+import ast
 import pathlib
 import re
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
-SOURCE_DIRS = ["core", "backends", "bench", "render", "tests"]
-FUNCTION_DIRS = ["bench", "backends", "render"]
+SOURCE_DIRS = ["core", "backends", "bench", "render", "python", "tests"]
+FUNCTION_DIRS = ["core", "backends", "bench", "render", "python"]
 MAX_FUNCTION_LINES = 80
 MAX_FILE_LINES = 500
+# functions still over the limit, each (file name, function) awaiting its split: named one by one so that no
+# other function can grow past the limit meanwhile
+OVER_LIMIT = set()
 JSON_INCLUDE = re.compile(r'#\s*include\s*[<"]nlohmann/')
 PROJECT_INCLUDE = re.compile(r'^[ \t]*#[ \t]*include[ \t]*"([^"]+)"', re.M)
 CYCLE_DIRS = SOURCE_DIRS + ["python", "examples"]
@@ -191,6 +196,12 @@ def cycle_problems(root_sources):
     return problems
 
 
+def python_functions(text):
+    """(name, first line, last line) of every function and method in a Python file."""
+    return [(node.name, node.lineno, node.end_lineno) for node in ast.walk(ast.parse(text))
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))]
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--list", type=int, metavar="N",
@@ -200,9 +211,20 @@ def main():
     problems = []
     sources = sorted(p for d in SOURCE_DIRS for p in (ROOT / d).rglob("*")
                      if p.suffix in (".cpp", ".hpp", ".h") and p.is_file())
-    for path in sources:
+    scripts = sorted(p for d in FUNCTION_DIRS for p in (ROOT / d).rglob("*.py") if p.is_file())
+    for path in sources + scripts:
         rel = path.relative_to(ROOT)
         text = path.read_text(encoding="utf-8", errors="replace")
+        found = python_functions(text) if path.suffix == ".py" else None
+        if found is not None:
+            for name, first, last in found:
+                length = last - first + 1
+                if args.list is not None and length > args.list:
+                    print(f"{length:5d}  {rel}:{first}  {name}")
+                elif args.list is None and length > MAX_FUNCTION_LINES:
+                    problems.append(f"{rel}:{first}: function {name} is {length} lines "
+                                    f"(limit {MAX_FUNCTION_LINES})")
+            continue
         lines = text.count("\n") + (0 if text.endswith("\n") else 1)
         if args.list is not None:
             for name, first, last in functions(text):
@@ -216,7 +238,7 @@ def main():
         if rel.parts[0] in FUNCTION_DIRS:
             for name, first, last in functions(text):
                 length = last - first + 1
-                if length > MAX_FUNCTION_LINES:
+                if length > MAX_FUNCTION_LINES and (path.name, name) not in OVER_LIMIT:
                     problems.append(f"{rel}:{first}: function {name} is {length} lines "
                                     f"(limit {MAX_FUNCTION_LINES})")
     if args.list is not None:
@@ -226,7 +248,7 @@ def main():
                                       if p.suffix in (".cpp", ".hpp", ".h") and p.is_file()))
     for p in problems:
         print(p)
-    print(f"structure: {len(sources)} files, {len(problems)} problems")
+    print(f"structure: {len(sources) + len(scripts)} files, {len(problems)} problems")
     return 1 if problems else 0
 
 
