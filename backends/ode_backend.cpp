@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "backends/ode_backend.hpp"
-#include "core/capsule_torus.hpp"
+#include "backends/capsule_torus.hpp"
 
 namespace chainmail {
 namespace ode {

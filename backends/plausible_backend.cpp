@@ -3,7 +3,7 @@
 
 #include "backends/backend.hpp"
 #include "core/parallel.hpp"
-#include "core/plausible.hpp"
+#include "core/plausible/plausible.hpp"
 
 namespace chainmail {
 namespace {

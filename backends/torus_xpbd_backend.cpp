@@ -2,7 +2,7 @@
 // behind the Backend interface.
 #include "backends/backend.hpp"
 #include "core/parallel.hpp"
-#include "core/torus_xpbd.hpp"
+#include "core/torus_xpbd/torus_xpbd.hpp"
 
 namespace chainmail {
 namespace {

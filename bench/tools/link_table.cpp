@@ -8,7 +8,7 @@
 #include <numbers>
 #include <string>
 
-#include "core/link_distance.hpp"
+#include "core/plausible/link_distance.hpp"
 
 namespace {
 

@@ -18,7 +18,7 @@
 #include "bench/harness/bench_suite.hpp"
 #include "bench/harness/run.hpp"
 #include "bench/harness/scene_file.hpp"
-#include "core/capsule_torus.hpp"
+#include "backends/capsule_torus.hpp"
 #include "core/metrics.hpp"
 
 namespace {

@@ -12,7 +12,7 @@
 
 #include "physics_oracles.hpp"
 #include "backend_sim.hpp"
-#include "core/capsule_torus.hpp"
+#include "backends/capsule_torus.hpp"
 #include "core/metrics.hpp"
 
 namespace chainmail {
