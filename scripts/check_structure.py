@@ -3,7 +3,11 @@
 
 - no function in bench/, backends/ or render/ longer than 80 lines (header line to closing brace);
 - no C++ source file anywhere in the project longer than 500 lines;
-- no header under core/ includes a JSON header (core depends on Eigen only).
+- no header under core/ includes a JSON header (core depends on Eigen only);
+- a file in core/ itself (the vocabulary every model shares) is included from more than one place:
+  one that only the files of one model folder (core/<model>/) include belongs in that folder, and
+  one that only backends/ includes belongs in backends/;
+- the graph of quoted includes has no cycle.
 
 Functions are found by brace matching after comments, strings and preprocessor lines are removed:
 a block opened at namespace or class scope whose header holds a parameter list is a function.
@@ -20,6 +24,10 @@ FUNCTION_DIRS = ["bench", "backends", "render"]
 MAX_FUNCTION_LINES = 80
 MAX_FILE_LINES = 500
 JSON_INCLUDE = re.compile(r'#\s*include\s*[<"]nlohmann/')
+QUOTED_INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"', re.MULTILINE)
+# the folders whose files place a core/ file: its models' and the adapters' (bench/, tests/ and
+# python/ use the models without being one)
+PLACING_DIRS = ["core", "backends"]
 
 
 def strip_code(text):
@@ -116,6 +124,65 @@ def functions(text):
     return found
 
 
+def includes(path, text):
+    """The project files `path` includes with quotes: from its own folder, the source root or
+    tests/ (the tests' include directory), as the compiler looks."""
+    found = []
+    for name in QUOTED_INCLUDE.findall(text):
+        for base in (path.parent, ROOT, ROOT / "tests"):
+            target = (base / name).resolve()
+            if target.is_file():
+                found.append(target)
+                break
+    return found
+
+
+def placement_problems(graph):
+    """core/ files that serve one model folder, or only backends/, from outside it."""
+    users = {}
+    for path, targets in graph.items():
+        rel = path.relative_to(ROOT)
+        if rel.parts[0] not in PLACING_DIRS:
+            continue
+        place = "/".join(rel.parts[:-1])
+        for target in targets:
+            if target.parent == ROOT / "core" and target.stem != path.stem:
+                users.setdefault(target, set()).add(place)
+    problems = []
+    for target, places in sorted(users.items()):
+        if len(places) == 1:
+            (place,) = places
+            if place != "core":
+                problems.append(f"{target.relative_to(ROOT)}: only {place}/ includes it: "
+                                f"move it into {place}/")
+    return problems
+
+
+def cycle_problems(graph):
+    """One line per include cycle found by a depth-first walk (each cycle reported once)."""
+    problems = []
+    state = {}  # 1: on the walk's path, 2: done
+    for start in sorted(graph):
+        if state.get(start):
+            continue
+        path, stack = [start], [iter(sorted(graph[start]))]
+        state[start] = 1
+        while stack:
+            nxt = next(stack[-1], None)
+            if nxt is None:
+                state[path.pop()] = 2
+                stack.pop()
+            elif state.get(nxt) == 1:
+                cycle = path[path.index(nxt):] + [nxt]
+                problems.append("include cycle: " +
+                                " -> ".join(str(p.relative_to(ROOT)) for p in cycle))
+            elif not state.get(nxt) and nxt in graph:
+                state[nxt] = 1
+                path.append(nxt)
+                stack.append(iter(sorted(graph[nxt])))
+    return problems
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--list", type=int, metavar="N",
@@ -123,12 +190,14 @@ def main():
     args = parser.parse_args()
 
     problems = []
+    graph = {}
     sources = sorted(p for d in SOURCE_DIRS for p in (ROOT / d).rglob("*")
                      if p.suffix in (".cpp", ".hpp", ".h") and p.is_file())
     for path in sources:
         rel = path.relative_to(ROOT)
         text = path.read_text(encoding="utf-8", errors="replace")
         lines = text.count("\n") + (0 if text.endswith("\n") else 1)
+        graph[path.resolve()] = includes(path, text)
         if args.list is not None:
             for name, first, last in functions(text):
                 if last - first + 1 > args.list:
@@ -146,6 +215,7 @@ def main():
                                     f"(limit {MAX_FUNCTION_LINES})")
     if args.list is not None:
         return 0
+    problems += placement_problems(graph) + cycle_problems(graph)
     for p in problems:
         print(p)
     print(f"structure: {len(sources)} files, {len(problems)} problems")
