@@ -1,4 +1,4 @@
-// Adapter: the paper's plausible model (core/plausible.hpp) behind the Backend interface.
+// Adapter: the paper's plausible model (core/plausible/plausible.hpp) behind the Backend interface.
 #include <numbers>
 
 #include "backends/backend.hpp"

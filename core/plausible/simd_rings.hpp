@@ -1,6 +1,7 @@
 // x, y and z of four consecutive rings in AVX2 lanes: the transposition of their 12 coordinates
 // (x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3, as a (3, n) array holds them), shared by the sweeps'
-// blocks and the per-ring passes. Only where CHAINMAIL_AVX2_SWEEPS (core/plausible_blocks.hpp).
+// blocks and the per-ring passes. Only where CHAINMAIL_AVX2_SWEEPS
+// (core/plausible/plausible_blocks.hpp).
 #pragma once
 
 #include "core/plausible/plausible_blocks.hpp"

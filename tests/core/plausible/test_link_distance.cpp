@@ -1,6 +1,6 @@
-// The largest centre distance of two linked rings (core/link_distance.hpp): the straight chain's
-// hook in closed form, coplanar rings never linked, the maximum a contact, the orientation's
-// symmetries and the table's interpolation.
+// The largest centre distance of two linked rings (core/plausible/link_distance.hpp): the straight
+// chain's hook in closed form, coplanar rings never linked, the maximum a contact, the
+// orientation's symmetries and the table's interpolation.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,7 +1,7 @@
-// The sweeps' blocks of four pairs (core/plausible_blocks): which pairs make a block, and that a
-// block's lanes give the bits of the scalar constraint functions, pair by pair, on stretched,
-// compressed, degenerate and NaN pairs. (Without AVX2 the blocks are swept pair by pair, and the
-// comparisons hold trivially.)
+// The sweeps' blocks of four pairs (core/plausible/plausible_blocks): which pairs make a block, and
+// that a block's lanes give the bits of the scalar constraint functions, pair by pair, on
+// stretched, compressed, degenerate and NaN pairs. (Without AVX2 the blocks are swept pair by pair,
+// and the comparisons hold trivially.)
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,6 +1,6 @@
-// The plausible model's passes over every ring (core/plausible_rings): in vector lanes, the bits
-// of the scalar pass, pinned rings untouched, and the moves from the contact list's anchor as a
-// direct measurement gives them. (Without AVX2 both ways are scalar and agree trivially.)
+// The plausible model's passes over every ring (core/plausible/plausible_rings): in vector lanes,
+// the bits of the scalar pass, pinned rings untouched, and the moves from the contact list's anchor
+// as a direct measurement gives them. (Without AVX2 both ways are scalar and agree trivially.)
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -1,5 +1,5 @@
-// The deepest point of a ring's centre circle in a collider (core/torus_colliders.hpp) against
-// dense sampling of the circle, for every collider type.
+// The deepest point of a ring's centre circle in a collider (core/torus_xpbd/torus_colliders.hpp)
+// against dense sampling of the circle, for every collider type.
 #include <gtest/gtest.h>
 
 #include <algorithm>

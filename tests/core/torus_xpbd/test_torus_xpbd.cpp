@@ -1,7 +1,7 @@
-// The rigid-torus XPBD model (core/torus_xpbd.hpp) against closed forms: a ring at rest on every
-// collider type within 0.02 a of its surface, a ring hanging from a pinned ring with the contact
-// where the wires hook, bounces that never gain energy, a corner-hung sheet's links no deeper than
-// the capsule references', determinism and sleeping.
+// The rigid-torus XPBD model (core/torus_xpbd/torus_xpbd.hpp) against closed forms: a ring at rest
+// on every collider type within 0.02 a of its surface, a ring hanging from a pinned ring with the
+// contact where the wires hook, bounces that never gain energy, a corner-hung sheet's links no
+// deeper than the capsule references', determinism and sleeping.
 #include <gtest/gtest.h>
 
 #include <algorithm>
