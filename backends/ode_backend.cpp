@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "backends/ode_backend.hpp"
 #include "backends/capsule_torus.hpp"
+#include "backends/ode_backend.hpp"
 
 namespace chainmail {
 namespace ode {

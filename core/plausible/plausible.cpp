@@ -7,8 +7,8 @@
 #include <utility>
 
 #include "core/colliders.hpp"
-#include "core/plausible/constraints.hpp"
 #include "core/damping.hpp"
+#include "core/plausible/constraints.hpp"
 
 namespace chainmail {
 namespace {

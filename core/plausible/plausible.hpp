@@ -9,16 +9,16 @@
 #include <cstdlib>
 #include <vector>
 
-#include "core/plausible/colouring.hpp"
 #include "core/damping.hpp"
 #include "core/frame.hpp"
+#include "core/plausible/colouring.hpp"
 #include "core/plausible/link_length.hpp"
 #include "core/plausible/orientation.hpp"
 #include "core/plausible/pin_attachments.hpp"
 #include "core/plausible/pin_paths.hpp"
 #include "core/plausible/plausible_rings.hpp"
-#include "core/profile.hpp"
 #include "core/plausible/projection.hpp"
+#include "core/profile.hpp"
 #include "core/scene.hpp"
 #include "core/spatial_hash.hpp"
 #include "core/weave.hpp"

@@ -12,8 +12,8 @@
 #include <chrono>
 #include <cstdlib>
 
-#include "core/plausible/constraints.hpp"
 #include "core/parallel.hpp"
+#include "core/plausible/constraints.hpp"
 #include "core/plausible/plausible.hpp"
 #include "core/plausible/plausible_blocks.hpp"
 #include "core/plausible/plausible_sweep.hpp"

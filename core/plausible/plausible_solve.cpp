@@ -6,8 +6,8 @@
 #include <cmath>
 
 #include "core/colliders.hpp"
-#include "core/plausible/constraints.hpp"
 #include "core/parallel.hpp"
+#include "core/plausible/constraints.hpp"
 #include "core/plausible/plausible.hpp"
 #include "core/plausible/plausible_sweep.hpp"
 #include "core/plausible/projection.hpp"
