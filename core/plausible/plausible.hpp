@@ -12,7 +12,7 @@
 #include "core/damping.hpp"
 #include "core/frame.hpp"
 #include "core/plausible/colouring.hpp"
-#include "core/plausible/link_length.hpp"
+#include "core/plausible/link_distance.hpp"
 #include "core/plausible/orientation.hpp"
 #include "core/plausible/pin_attachments.hpp"
 #include "core/plausible/pin_paths.hpp"

@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "core/geometry.hpp"
-#include "core/plausible/link_length.hpp"
+#include "core/plausible/link_distance.hpp"
 
 namespace chainmail {
 namespace {

@@ -13,7 +13,7 @@
 #include "core/geometry.hpp"
 #include "core/massspring/massspring.hpp"
 #include "core/metrics.hpp"
-#include "core/plausible/link_length.hpp"
+#include "core/plausible/link_distance.hpp"
 #include "core/plausible/plausible.hpp"
 #include "core/weave.hpp"
 #include "physics_oracles.hpp"

@@ -14,7 +14,7 @@
 #include "core/geometry.hpp"
 #include "core/metrics.hpp"
 #include "core/plausible/constraints.hpp"
-#include "core/plausible/link_length.hpp"
+#include "core/plausible/link_distance.hpp"
 #include "core/plausible/orientation.hpp"
 #include "core/plausible/pin_paths.hpp"
 #include "core/plausible/plausible.hpp"
