@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "backends/backend.hpp"
-#include "core/capsule_torus.hpp"
+#include "backends/capsule_torus.hpp"
 
 namespace chainmail {
 

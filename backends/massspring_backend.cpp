@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "backends/backend.hpp"
-#include "core/massspring.hpp"
+#include "core/massspring/massspring.hpp"
 
 namespace chainmail {
 namespace {

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "backends/capsule_torus.hpp"
 #include "backends/ode_backend.hpp"
-#include "core/capsule_torus.hpp"
 
 namespace chainmail {
 namespace ode {

@@ -1,10 +1,10 @@
-// Adapter: the paper's plausible model (core/plausible.hpp) behind the Backend interface.
+// Adapter: the paper's plausible model (core/plausible/plausible.hpp) behind the Backend interface.
 #include <numbers>
 #include <string>
 
 #include "backends/backend.hpp"
 #include "core/parallel.hpp"
-#include "core/plausible.hpp"
+#include "core/plausible/plausible.hpp"
 
 namespace chainmail {
 namespace {

@@ -1,8 +1,8 @@
-// Adapter: rings as rigid tori with exact torus-torus contact in XPBD (core/torus_xpbd.hpp)
-// behind the Backend interface.
+// Adapter: rings as rigid tori with exact torus-torus contact in XPBD
+// (core/torus_xpbd/torus_xpbd.hpp) behind the Backend interface.
 #include "backends/backend.hpp"
 #include "core/parallel.hpp"
-#include "core/torus_xpbd.hpp"
+#include "core/torus_xpbd/torus_xpbd.hpp"
 
 namespace chainmail {
 namespace {

@@ -11,8 +11,10 @@ set(CHAINMAIL_INSTALL_DATADIR ${CMAKE_INSTALL_DATADIR}/chainmail)
 set(chainmail_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/chainmail)
 
 # the libraries outside code builds a backend on, as chainmail::<name>
-set(chainmail_libraries chainmail_core chainmail_backends chainmail_scene_file)
+set(chainmail_libraries chainmail_core chainmail_capsule_torus chainmail_backends
+  chainmail_scene_file)
 set_target_properties(chainmail_core PROPERTIES EXPORT_NAME core)
+set_target_properties(chainmail_capsule_torus PROPERTIES EXPORT_NAME capsule_torus)
 set_target_properties(chainmail_backends PROPERTIES EXPORT_NAME backends)
 set_target_properties(chainmail_scene_file PROPERTIES EXPORT_NAME scene_file)
 foreach(optional bullet ode)
@@ -32,7 +34,7 @@ install(TARGETS ${chainmail_libraries} EXPORT chainmailTargets
 # that the installed headers' own includes ("core/scene.hpp") resolve
 set(chainmail_include ${CMAKE_INSTALL_INCLUDEDIR}/chainmail)
 install(DIRECTORY core/ DESTINATION ${chainmail_include}/core FILES_MATCHING PATTERN "*.hpp")
-install(FILES backends/backend.hpp backends/knobs.hpp DESTINATION ${chainmail_include}/backends)
+install(FILES backends/backend.hpp backends/knobs.hpp backends/capsule_torus.hpp DESTINATION ${chainmail_include}/backends)
 install(FILES bench/harness/scene_file.hpp DESTINATION ${chainmail_include}/bench/harness)
 install(FILES tests/backends/backend_contract.hpp tests/backends/backend_sim.hpp
               tests/backends/collider_cases.hpp

@@ -5,6 +5,9 @@
   80 lines (header line to closing brace), but for those listed in OVER_LIMIT;
 - no C++ source file anywhere in the project longer than 500 lines;
 - no header under core/ includes a JSON header (core depends on Eigen only);
+- a file in core/ itself (the vocabulary every model shares) is included from more than one place:
+  one that only the files of one model folder (core/<model>/) include belongs in that folder, and
+  one that only backends/ includes belongs in backends/;
 - no include cycle between files, a header and its source counting as one file (a.cpp including
   b.hpp and b.cpp including a.hpp is a cycle: neither can be read, built or moved without the
   other), except the cycles listed in KNOWN_CYCLES, which the restructure of core/ and
@@ -36,9 +39,13 @@ KNOWN_CYCLES = [
     ["bench/harness/output", "bench/harness/table_cells"],
     ["bench/harness/scene_file", "bench/harness/scene_file_text"],
     ["bench/harness/sweep", "bench/harness/sweep_jobs"],
-    ["core/plausible", "core/plausible_blocks", "core/plausible_rings", "core/plausible_sweep",
-     "core/simd_rings"],
+    ["core/plausible/plausible", "core/plausible/plausible_blocks", "core/plausible/plausible_rings",
+     "core/plausible/plausible_sweep", "core/plausible/simd_rings"],
 ]
+QUOTED_INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"', re.MULTILINE)
+# the folders whose files place a core/ file: its models' and the adapters' (bench/, tests/ and
+# python/ use the models without being one)
+PLACING_DIRS = ["core", "backends"]
 
 
 def strip_code(text):
@@ -200,6 +207,38 @@ def python_functions(text):
     """(name, first line, last line) of every function and method in a Python file."""
     return [(node.name, node.lineno, node.end_lineno) for node in ast.walk(ast.parse(text))
             if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))]
+def includes(path, text):
+    """The project files `path` includes with quotes: from its own folder, the source root or
+    tests/ (the tests' include directory), as the compiler looks."""
+    found = []
+    for name in QUOTED_INCLUDE.findall(text):
+        for base in (path.parent, ROOT, ROOT / "tests"):
+            target = (base / name).resolve()
+            if target.is_file():
+                found.append(target)
+                break
+    return found
+
+
+def placement_problems(graph):
+    """core/ files that serve one model folder, or only backends/, from outside it."""
+    users = {}
+    for path, targets in graph.items():
+        rel = path.relative_to(ROOT)
+        if rel.parts[0] not in PLACING_DIRS:
+            continue
+        place = "/".join(rel.parts[:-1])
+        for target in targets:
+            if target.parent == ROOT / "core" and target.stem != path.stem:
+                users.setdefault(target, set()).add(place)
+    problems = []
+    for target, places in sorted(users.items()):
+        if len(places) == 1:
+            (place,) = places
+            if place != "core":
+                problems.append(f"{target.relative_to(ROOT)}: only {place}/ includes it: "
+                                f"move it into {place}/")
+    return problems
 
 
 def main():
@@ -209,6 +248,7 @@ def main():
     args = parser.parse_args()
 
     problems = []
+    graph = {}
     sources = sorted(p for d in SOURCE_DIRS for p in (ROOT / d).rglob("*")
                      if p.suffix in (".cpp", ".hpp", ".h") and p.is_file())
     scripts = sorted(p for d in FUNCTION_DIRS for p in (ROOT / d).rglob("*.py") if p.is_file())
@@ -226,6 +266,7 @@ def main():
                                     f"(limit {MAX_FUNCTION_LINES})")
             continue
         lines = text.count("\n") + (0 if text.endswith("\n") else 1)
+        graph[path.resolve()] = includes(path, text)
         if args.list is not None:
             for name, first, last in functions(text):
                 if last - first + 1 > args.list:
@@ -246,6 +287,7 @@ def main():
     problems += cycle_problems(sorted(p for d in CYCLE_DIRS if (ROOT / d).is_dir()
                                       for p in (ROOT / d).rglob("*")
                                       if p.suffix in (".cpp", ".hpp", ".h") and p.is_file()))
+    problems += placement_problems(graph)
     for p in problems:
         print(p)
     print(f"structure: {len(sources) + len(scripts)} files, {len(problems)} problems")

@@ -9,7 +9,7 @@
 
 #include "bench/harness/scene_file.hpp"
 #include "bench/micro/stage_counters.hpp"
-#include "core/plausible.hpp"
+#include "core/plausible/plausible.hpp"
 #include "core/weave.hpp"
 
 namespace {

@@ -10,7 +10,7 @@
 
 #include "bench/harness/scene_file.hpp"
 #include "bench/micro/stage_counters.hpp"
-#include "core/torus_xpbd.hpp"
+#include "core/torus_xpbd/torus_xpbd.hpp"
 #include "core/weave.hpp"
 
 namespace {

@@ -1,14 +1,14 @@
 // The largest centre distance of two linked rings over their relative orientation
-// (core/link_distance.hpp), as CSV on stdout: one row per orientation on a 5-degree grid, for the
-// default ring (wire diameter 1.6 mm, inner diameter 8 mm) or `--aspect AR` (inner diameter / wire
-// diameter). bench/plot_link_distance.py plots it; scripts/link_distance.sh runs both.
+// (core/plausible/link_distance.hpp), as CSV on stdout: one row per orientation on a 5-degree grid,
+// for the default ring (wire diameter 1.6 mm, inner diameter 8 mm) or `--aspect AR` (inner diameter
+// / wire diameter). bench/plot_link_distance.py plots it; scripts/link_distance.sh runs both.
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <numbers>
 #include <string>
 
-#include "core/link_distance.hpp"
+#include "core/plausible/link_distance.hpp"
 
 namespace {
 

@@ -15,10 +15,10 @@
 #include <vector>
 
 #include "backends/backend.hpp"
+#include "backends/capsule_torus.hpp"
 #include "bench/harness/bench_suite.hpp"
 #include "bench/harness/run.hpp"
 #include "bench/harness/scene_file.hpp"
-#include "core/capsule_torus.hpp"
 #include "core/metrics.hpp"
 
 namespace {

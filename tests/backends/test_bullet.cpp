@@ -10,7 +10,7 @@
 #include <numbers>
 
 #include "backend_sim.hpp"
-#include "core/capsule_torus.hpp"
+#include "backends/capsule_torus.hpp"
 #include "core/metrics.hpp"
 
 namespace chainmail {

@@ -10,10 +10,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "physics_oracles.hpp"
 #include "backend_sim.hpp"
-#include "core/capsule_torus.hpp"
+#include "backends/capsule_torus.hpp"
 #include "core/metrics.hpp"
+#include "physics_oracles.hpp"
 
 namespace chainmail {
 namespace {

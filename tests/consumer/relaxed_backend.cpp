@@ -3,7 +3,7 @@
 #include <memory>
 
 #include <chainmail/backends/backend.hpp>
-#include <chainmail/core/plausible.hpp>
+#include <chainmail/core/plausible/plausible.hpp>
 
 namespace consumer {
 namespace {

@@ -1,0 +1,276 @@
+// The plausible model's position solve: the outward pass from the pins, then the edge
+// constraints, the minimum distance between non-neighbours and the colliders, solved together
+// (Newton steps on all of them, or Gauss-Seidel sweeps) until the largest violation is below the
+// tolerance.
+#include <algorithm>
+#include <cmath>
+
+#include "core/colliders.hpp"
+#include "core/parallel.hpp"
+#include "core/plausible/constraints.hpp"
+#include "core/plausible/plausible.hpp"
+#include "core/plausible/plausible_sweep.hpp"
+#include "core/plausible/projection.hpp"
+
+namespace chainmail {
+namespace {
+
+// one Gauss-Seidel sweep over coloured pairs, colour by colour; a colour's pairs share no ring,
+// so they run on the threads with the result of any order. solve(k) returns pair k's violation
+template <class Solve>
+double sweep_colours(const Colouring& colours, int threads, Solve&& solve) {
+  double worst = 0.0;  // m
+  for (int c = 0; c < colours.colours(); ++c) {
+    const int begin = colours.start[c], end = colours.start[c + 1];
+    const bool serial = colours.serial_tail && c + 1 == colours.colours();
+    const int team = serial ? 1 : loop_threads(threads, end - begin);
+#pragma omp parallel for schedule(static) num_threads(team) reduction(max : worst)
+    for (int k = begin; k < end; ++k) worst = std::max(worst, solve(k));
+  }
+  return worst;
+}
+
+}  // namespace
+
+void PlausibleSim::solve_positions() {
+  if (model_.settings.shock_propagation && !model_.outward.empty()) propagate_from_pins();
+  const double tolerance = model_.settings.tolerance * model_.longest_link;  // m
+  // Gauss-Seidel sweeps: each ends with the colliders, so a converged sweep leaves the edges
+  // within tolerance with every ring outside (neither has the last word)
+  const bool contacts = solves_contacts();
+  const bool colliders = !model_.colliders.empty();
+  state_.sweeps = 0;
+  state_.newton_steps = 0;
+  state_.residual = 0.0;
+  // the step's sweeps are shared among its substeps
+  const int iterations = std::max(1, model_.settings.iterations / substep_count());
+  // with the substeps under control, up to kExtraSweeps more while a sweep meets a violation past
+  // the control level (control_substeps): the substep that meets it is not left with it
+  const int extra = controls_substeps() ? kExtraSweeps : 0;
+  const double control = stretch_control_level() * model_.longest_link;  // m
+  while (state_.sweeps < iterations + extra) {
+    // the attachments first: the sheet-wide part of a stretch, then the edges fix the local one
+    double residual = sweep_links();  // m
+    if (contacts) residual = std::max(residual, solve_contacts());
+    if (colliders) residual = std::max(residual, collide());
+    ++state_.sweeps;
+    state_.residual = residual;
+    // what the scheduled sweeps left, before any extra ones: the stretch control's signal
+    if (state_.sweeps <= iterations) {
+      state_.scheduled_residual = std::max(state_.scheduled_residual, residual);
+    }
+    if (residual <= tolerance) return;
+    if (state_.sweeps >= iterations && residual <= control) break;
+  }
+  // what the sweeps leave past the Newton level (a sheet torn by an impact or a huge step: the
+  // sweeps move a violation a few rings a sweep), Newton steps on the edges and colliders
+  // together remove; the state decides, not the ring count
+  const double trigger = newton_trigger();  // m
+  if (model_.settings.newton_steps > 0 && state_.residual > trigger) {
+    solve_together(tolerance, trigger);
+  }
+}
+
+double PlausibleSim::newton_trigger() const {
+  // newton_level of the way from the longest link to a link at the inner diameter: at 1, a link
+  // would otherwise end the substep longer than real rings allow (a chain's links have only the
+  // tolerance between them and the inner diameter)
+  const double tolerance = model_.settings.tolerance * model_.longest_link;  // m
+  const double room = std::max(model_.ring.inner_diameter() - model_.longest_link, tolerance);
+  return std::max(tolerance, model_.settings.newton_level * room);
+}
+
+bool PlausibleSim::solves_contacts() const {
+  return model_.self_contact && !model_.settings.repulsion_spring && state_.position.cols() > 1;
+}
+
+void PlausibleSim::solve_together(double tolerance, double trigger) {
+  // the minimum distances between non-neighbours stay with the sweeps: where a sheet is packed
+  // tight they contradict the edges, and a system holding both has no solution
+  const bool colliders = !model_.colliders.empty();
+  std::vector<ProjectionRow> rows;
+  for (;;) {
+    rows.clear();
+    double residual = 0.0;
+    {
+      auto scope = profile_.scope("constraints");
+      residual = std::max(residual, edge_rows(tolerance, rows));
+    }
+    const size_t first_collider = rows.size();
+    if (colliders) {
+      auto scope = profile_.scope("colliders");
+      residual = std::max(residual, collider_rows(tolerance, rows));
+    }
+    state_.residual = residual;
+    // the sweeps' residual counts every kind of violation: the edges and colliders alone may
+    // stand within the level
+    if (state_.newton_steps == 0 && residual <= trigger) break;
+    if (residual <= tolerance || state_.newton_steps >= model_.settings.newton_steps) break;
+    ++state_.newton_steps;
+    auto scope = profile_.scope("newton");
+    const ProjectionResult result = projection_.project(rows, model_.inverse_mass, state_.position);
+    if (!result.solved) break;  // not factorisable (never seen): the sweeps' result stands
+    // collider pushes, for friction in the velocity update
+    for (size_t k = first_collider; k < rows.size(); ++k) {
+      const int ring = rows[k].b;
+      state_.contact_push[ring] += result.shift[k] * model_.inverse_mass[ring];
+    }
+  }
+}
+
+double PlausibleSim::edge_rows(double near, std::vector<ProjectionRow>& rows) const {
+  const Positions& p = state_.position;
+  const std::vector<double>& w = model_.inverse_mass;
+  double worst = 0.0;  // m
+  for (const EdgeConstraint& e : model_.edges) {
+    if (w[e.a] + w[e.b] == 0.0) continue;
+    const Vec3 d = p.col(e.b) - p.col(e.a);
+    const double length = d.norm();
+    if (length < 1e-15) continue;
+    const Vec3 n = d / length;
+    // at most max_length: C = length - max; at least min_length: C = min - length
+    const double over = length - e.max_length, under = e.min_length - length;
+    if (over > -near) rows.push_back({e.a, e.b, n, over});
+    if (under > -near) rows.push_back({e.a, e.b, -n, under});
+    worst = std::max({worst, over, under});
+  }
+  return worst;
+}
+
+double PlausibleSim::contact_rows(double near, std::vector<ProjectionRow>& rows) const {
+  const Positions& p = state_.position;
+  const Positions& before = state_.previous;
+  const double range = model_.repulsion_range;
+  double worst = 0.0;  // m
+  for (const RingPair& pair : state_.contact_candidates) {
+    if (model_.inverse_mass[pair.a] + model_.inverse_mass[pair.b] == 0.0) continue;
+    // apart along the direction the pair had at the start of the step (see solve_contacts)
+    Vec3 normal = before.col(pair.b) - before.col(pair.a);
+    if (normal.squaredNorm() < 1e-24) normal = p.col(pair.b) - p.col(pair.a);
+    const double length = normal.norm();
+    if (length < 1e-12) continue;
+    normal /= length;
+    const double violation = range - (p.col(pair.b) - p.col(pair.a)).dot(normal);
+    if (violation > -near) rows.push_back({pair.a, pair.b, -normal, violation});
+    worst = std::max(worst, violation);
+  }
+  return worst;
+}
+
+double PlausibleSim::collider_rows(double near, std::vector<ProjectionRow>& rows) {
+  const int n = static_cast<int>(state_.position.cols());
+  double worst = 0.0;  // m
+  for (int i = 0; i < n; ++i) {
+    if (model_.inverse_mass[i] == 0.0) continue;
+    for (const Collider& collider : model_.colliders) {
+      Vec3 normal;
+      const double distance = collider_distance(collider, state_.position.col(i), normal);
+      const double violation = collider_margin(i, normal) - distance;
+      if (violation <= -near) continue;
+      rows.push_back({-1, i, -normal, violation});
+      worst = std::max(worst, violation);
+      if (violation > 0.0 || state_.contact_push[i] > 0.0) {
+        state_.contact_normal.col(i) = normal;
+        state_.contact_friction[i] = collider.friction;
+      }
+    }
+  }
+  return worst;
+}
+
+void PlausibleSim::propagate_from_pins() {
+  auto scope = profile_.scope("propagate");
+  Positions& p = state_.position;
+  // edges are grouped by their far ring (sorted by depth); a ring with two parents (4-in-1) takes
+  // the mean of the projections onto each parent's sphere, so parents that are too far apart to
+  // satisfy both pull it to a compromise instead of making it jump from one to the other
+  const auto& edges = model_.outward;
+  for (size_t first = 0; first < edges.size();) {
+    size_t last = first;
+    while (last < edges.size() && edges[last].b == edges[first].b) ++last;
+    const int ring = edges[first].b;
+    if (model_.inverse_mass[ring] != 0.0) {
+      for (int pass = 0; pass < 2; ++pass) {
+        Vec3 sum = Vec3::Zero();
+        int count = 0;
+        for (size_t k = first; k < last; ++k) {
+          Vec3 corr0, corr1;
+          if (solve_edge_constraint(p.col(edges[k].a), 0.0, p.col(ring), 1.0, edges[k].min_length,
+                                    edges[k].max_length, corr0, corr1) > 0.0) {
+            sum += corr1;
+            ++count;
+          }
+        }
+        if (count == 0) break;
+        p.col(ring) += sum / static_cast<double>(last - first);
+      }
+    }
+    first = last;
+  }
+}
+
+double PlausibleSim::collider_margin(int ring, const Vec3& normal) const {
+  if (model_.settings.contact_margin > 0.0) return model_.settings.contact_margin;
+  // the torus reaches c sqrt(1 - (axis . n)^2) + a from its centre along n: a ring lying flat
+  // needs a, one standing on its rim c + a (the orientation is the last step's)
+  const Vec3 axis = state_.contact_axis.col(ring);
+  const double along = std::min(1.0, std::abs(axis.dot(normal)));
+  return model_.ring.wire_radius + model_.ring.centre_radius * std::sqrt(1.0 - along * along);
+}
+
+double PlausibleSim::collide() {
+  auto scope = profile_.scope("colliders");
+  double worst = 0.0;  // m
+  const int n = static_cast<int>(state_.position.cols());
+  const double reach = std::max(model_.settings.contact_margin,
+                                model_.ring.wire_radius + model_.ring.centre_radius);  // m
+  // each ring against every collider: rings are independent
+  const int team = loop_threads(threads_, n);
+#pragma omp parallel for schedule(static) num_threads(team) reduction(max : worst)
+  for (int i = 0; i < n; ++i) {
+    if (model_.inverse_mass[i] == 0.0) continue;
+    for (const Collider& collider : model_.colliders) {
+      Vec3 normal;
+      const double distance = collider_distance(collider, state_.position.col(i), normal);
+      // no torus reaches farther than its outer radius: most rings end here, before the margin
+      if (distance >= reach) continue;
+      const double depth = collider_margin(i, normal) - distance;  // m
+      if (depth <= 0.0) continue;
+      state_.position.col(i) += depth * normal;
+      state_.contact_push[i] += depth;
+      state_.contact_normal.col(i) = normal;
+      state_.contact_friction[i] = collider.friction;
+      worst = std::max(worst, depth);
+    }
+  }
+  return worst;
+}
+
+double PlausibleSim::solve_contacts() {
+  auto scope = profile_.scope("self_contact");
+  Positions& p = state_.position;
+  const Positions& before = state_.previous;
+  const std::vector<double>& w = model_.inverse_mass;
+  const double range = model_.repulsion_range;
+  return sweep_colours(state_.contact_colours, threads_, [&](int k) {
+    const RingPair& pair = state_.contact_candidates[k];
+    const double weight = w[pair.a] + w[pair.b];
+    if (weight == 0.0) return 0.0;
+    // apart along the direction the pair had at the start of the step: a ring that passed
+    // through another during the step goes back to its own side (no tunnelling), and the
+    // distance is at least the separation along that direction
+    Vec3 normal = before.col(pair.b) - before.col(pair.a);
+    if (normal.squaredNorm() < 1e-24) normal = p.col(pair.b) - p.col(pair.a);
+    const double length = normal.norm();
+    if (length < 1e-12) return 0.0;
+    normal /= length;
+    const double gap = (p.col(pair.b) - p.col(pair.a)).dot(normal) - range;  // m, < 0 too close
+    if (gap >= 0.0) return 0.0;
+    const Vec3 shift = (gap / weight) * normal;
+    p.col(pair.a) += w[pair.a] * shift;
+    p.col(pair.b) -= w[pair.b] * shift;
+    return -gap;
+  });
+}
+
+}  // namespace chainmail

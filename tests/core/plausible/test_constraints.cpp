@@ -1,0 +1,50 @@
+// The stateless position constraints: corrections that meet the bound exactly, shared by inverse
+// mass, and the violation they report (the sweeps' residual) equal to the distance corrected.
+#include <gtest/gtest.h>
+
+#include "core/plausible/constraints.hpp"
+
+namespace chainmail {
+namespace {
+
+TEST(EdgeConstraint, StretchedEdgeMeetsItsMaximumAndReportsTheExcess) {
+  const Vec3 p0(0.0, 0.0, 0.0), p1(0.3, 0.4, 0.0);  // length 0.5
+  Vec3 corr0 = Vec3::Zero(), corr1 = Vec3::Zero();
+  const double violation = solve_edge_constraint(p0, 1.0, p1, 3.0, 0.1, 0.4, corr0, corr1);
+  EXPECT_NEAR(violation, 0.1, 1e-15);
+  EXPECT_NEAR(((p1 + corr1) - (p0 + corr0)).norm(), 0.4, 1e-15);
+  // the lighter end (w = 3) moves three times as far, along the edge
+  EXPECT_NEAR(corr1.norm(), 3.0 * corr0.norm(), 1e-15);
+  EXPECT_NEAR((corr1 - corr0).norm(), violation, 1e-15);
+}
+
+TEST(EdgeConstraint, CompressedEdgeMeetsItsMinimum) {
+  const Vec3 p0(0.0, 0.0, 0.0), p1(0.0, 0.0, 0.05);
+  Vec3 corr0 = Vec3::Zero(), corr1 = Vec3::Zero();
+  const double violation = solve_edge_constraint(p0, 0.0, p1, 1.0, 0.1, 0.4, corr0, corr1);
+  EXPECT_NEAR(violation, 0.05, 1e-15);
+  EXPECT_EQ(corr0, Vec3::Zero());  // pinned
+  EXPECT_NEAR((p1 + corr1 - p0).norm(), 0.1, 1e-15);
+}
+
+TEST(EdgeConstraint, WithinBoundsOrImmovableIsUntouched) {
+  Vec3 corr0(7, 7, 7), corr1(7, 7, 7);
+  EXPECT_EQ(solve_edge_constraint(Vec3::Zero(), 1.0, Vec3(0.2, 0, 0), 1.0, 0.1, 0.4, corr0, corr1),
+            0.0);
+  EXPECT_EQ(solve_edge_constraint(Vec3::Zero(), 0.0, Vec3(0.9, 0, 0), 0.0, 0.1, 0.4, corr0, corr1),
+            0.0);
+  EXPECT_EQ(corr0, Vec3(7, 7, 7));
+  EXPECT_EQ(corr1, Vec3(7, 7, 7));
+}
+
+TEST(AttachmentConstraint, PullsBackToTheSphereAroundThePin) {
+  const Vec3 pin(1.0, 2.0, 3.0), p = pin + Vec3(0.0, -0.6, 0.8);  // 1.0 from the pin
+  Vec3 corr = Vec3::Zero();
+  EXPECT_NEAR(solve_attachment_constraint(p, pin, 0.75, corr), 0.25, 1e-15);
+  EXPECT_NEAR((p + corr - pin).norm(), 0.75, 1e-15);
+  EXPECT_NEAR(corr.norm(), 0.25, 1e-15);
+  EXPECT_EQ(solve_attachment_constraint(p, pin, 1.5, corr), 0.0);  // inside: free
+}
+
+}  // namespace
+}  // namespace chainmail
