@@ -5,10 +5,10 @@
 #include "backends/backend.hpp"
 #include "bench/harness/info_commands.hpp"
 #include "bench/harness/output_error.hpp"
-#include "bench/harness/scene_file.hpp"
 #include "bench/harness/usage_error.hpp"
 #include "bench/harness/version.hpp"
 #include "python/bindings.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail::python {
 

@@ -11,10 +11,10 @@
 #include "bench/harness/data_dir.hpp"
 #include "bench/harness/output.hpp"
 #include "bench/harness/run.hpp"
-#include "bench/harness/scene_file.hpp"
 #include "bench/harness/shared_model.hpp"
 #include "core/metrics.hpp"
 #include "python/bindings.hpp"
+#include "scene_file/scene_file.hpp"
 #if CHAINMAIL_HAVE_RENDER
 #include "core/parallel.hpp"
 #include "render/renderer.hpp"

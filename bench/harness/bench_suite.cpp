@@ -18,12 +18,12 @@
 #include "bench/harness/report.hpp"
 #include "bench/harness/run.hpp"
 #include "bench/harness/scaling.hpp"
-#include "bench/harness/scene_file.hpp"
 #include "bench/harness/stability.hpp"
 #include "bench/harness/sweep.hpp"
 #include "bench/harness/table_cells.hpp"
 #include "bench/harness/timed_rounds.hpp"
 #include "core/parallel.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace fs = std::filesystem;

@@ -9,9 +9,9 @@
 #include "bench/harness/render_output.hpp"
 #include "bench/harness/report.hpp"
 #include "bench/harness/run.hpp"
-#include "bench/harness/scene_file.hpp"
 #include "bench/harness/usage_error.hpp"
 #include "core/parallel.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 

@@ -7,9 +7,9 @@
 #include "backends/backend.hpp"
 #include "bench/harness/commands.hpp"
 #include "bench/harness/run.hpp"
-#include "bench/harness/scene_file.hpp"
-#include "bench/harness/scene_file_text.hpp"
 #include "bench/harness/usage_error.hpp"
+#include "scene_file/scene_file.hpp"
+#include "scene_file/scene_file_text.hpp"
 
 namespace chainmail {
 namespace {

@@ -14,9 +14,9 @@
 #include "backends/backend.hpp"
 #include "bench/harness/frame_stream.hpp"
 #include "bench/harness/output_error.hpp"
-#include "bench/harness/scene_file.hpp"
 #include "bench/harness/table_cells.hpp"
 #include "bench/harness/version.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace fs = std::filesystem;

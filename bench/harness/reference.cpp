@@ -9,9 +9,9 @@
 #include <filesystem>
 
 #include "bench/harness/budget.hpp"
-#include "bench/harness/scene_file.hpp"
 #include "bench/harness/version.hpp"
 #include "core/metrics.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace fs = std::filesystem;

@@ -10,8 +10,8 @@
 #include "bench/harness/output.hpp"
 #include "bench/harness/output_folder.hpp"
 #include "bench/harness/report_data.hpp"
-#include "bench/harness/scene_file_text.hpp"
 #include "bench/harness/usage_error.hpp"
+#include "scene_file/scene_file_text.hpp"
 
 namespace chainmail {
 namespace {

@@ -8,9 +8,9 @@
 #include <sstream>
 
 #include "bench/harness/saved_run.hpp"
-#include "bench/harness/scene_file_text.hpp"
 #include "bench/harness/usage_error.hpp"
 #include "core/frame.hpp"
+#include "scene_file/scene_file_text.hpp"
 
 namespace chainmail {
 namespace {

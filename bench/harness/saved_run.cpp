@@ -11,9 +11,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/harness/scene_file.hpp"
-#include "bench/harness/scene_file_text.hpp"
 #include "bench/harness/usage_error.hpp"
+#include "scene_file/scene_file.hpp"
+#include "scene_file/scene_file_text.hpp"
 
 namespace chainmail {
 namespace {

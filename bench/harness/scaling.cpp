@@ -10,9 +10,9 @@
 #include "bench/harness/output.hpp"
 #include "bench/harness/process.hpp"
 #include "bench/harness/run.hpp"
-#include "bench/harness/scene_file.hpp"
 #include "bench/harness/timed_rounds.hpp"
 #include "bench/harness/verdict.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

@@ -15,9 +15,9 @@
 #include "bench/harness/output.hpp"
 #include "bench/harness/output_folder.hpp"
 #include "bench/harness/run.hpp"
-#include "bench/harness/scene_file.hpp"
 #include "bench/harness/table_cells.hpp"
 #include "core/parallel.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 using json = nlohmann::json;

@@ -20,10 +20,10 @@
 #include "bench/harness/output_folder.hpp"
 #include "bench/harness/process.hpp"
 #include "bench/harness/run.hpp"
-#include "bench/harness/scene_file.hpp"
 #include "bench/harness/sweep_jobs.hpp"
 #include "bench/harness/usage_error.hpp"
 #include "core/parallel.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace fs = std::filesystem;

@@ -11,9 +11,9 @@
 #include "bench/harness/commands.hpp"
 #include "bench/harness/output_folder.hpp"
 #include "bench/harness/process.hpp"
-#include "bench/harness/scene_file.hpp"
 #include "bench/harness/sweep_jobs.hpp"
 #include "bench/harness/usage_error.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace fs = std::filesystem;

@@ -17,9 +17,9 @@
 #include "backends/backend.hpp"
 #include "bench/harness/bench_suite.hpp"
 #include "bench/harness/run.hpp"
-#include "bench/harness/scene_file.hpp"
 #include "core/capsule_torus.hpp"
 #include "core/metrics.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace {
 

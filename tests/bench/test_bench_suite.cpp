@@ -13,8 +13,8 @@
 #include "bench/harness/commands.hpp"
 #include "bench/harness/process.hpp"
 #include "bench/harness/scaling.hpp"
-#include "bench/harness/scene_file.hpp"
 #include "bench/harness/sweep.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

@@ -8,8 +8,8 @@
 
 #include "backends/backend.hpp"
 #include "bench/harness/run.hpp"
-#include "bench/harness/scene_file.hpp"
 #include "core/weave.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

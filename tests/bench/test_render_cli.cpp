@@ -32,9 +32,9 @@
 
 #include "bench/harness/render_output.hpp"
 #include "bench/harness/run.hpp"
-#include "bench/harness/scene_file.hpp"
 #include "core/scene.hpp"
 #include "glb_reader.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

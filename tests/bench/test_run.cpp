@@ -12,11 +12,11 @@
 #include "bench/harness/frame_stream.hpp"
 #include "bench/harness/output.hpp"
 #include "bench/harness/run.hpp"
-#include "bench/harness/scene_file.hpp"
 #include "bench/harness/sweep.hpp"
 #include "bench/harness/usage_error.hpp"
 #include "bench/harness/version.hpp"
 #include "core/parallel.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

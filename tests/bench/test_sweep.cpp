@@ -8,9 +8,9 @@
 #include "backends/backend.hpp"
 #include "bench/harness/commands.hpp"
 #include "bench/harness/process.hpp"
-#include "bench/harness/scene_file.hpp"
 #include "bench/harness/sweep.hpp"
 #include "bench/harness/usage_error.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

@@ -7,10 +7,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/harness/scene_file.hpp"
 #include "core/massspring.hpp"
 #include "core/spatial_hash.hpp"
 #include "core/weave.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail::massspring::test {
 

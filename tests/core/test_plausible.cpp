@@ -6,10 +6,10 @@
 #include <set>
 #include <utility>
 
-#include "bench/harness/scene_file.hpp"
 #include "core/geometry.hpp"
 #include "core/orientation.hpp"
 #include "core/plausible.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

@@ -5,11 +5,11 @@
 #include <algorithm>
 #include <cstdint>
 
-#include "bench/harness/scene_file.hpp"
 #include "core/pin_attachments.hpp"
 #include "core/pin_paths.hpp"
 #include "core/plausible.hpp"
 #include "core/weave.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

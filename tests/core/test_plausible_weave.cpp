@@ -10,7 +10,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/harness/scene_file.hpp"
 #include "core/constraints.hpp"
 #include "core/geometry.hpp"
 #include "core/link_length.hpp"
@@ -19,6 +18,7 @@
 #include "core/pin_paths.hpp"
 #include "core/plausible.hpp"
 #include "core/weave_limits.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

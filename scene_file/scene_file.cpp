@@ -1,6 +1,6 @@
 // Scene files: the reader. Every key is checked against its type and range as written and
 // unknown keys are refused, so a scene either loads completely or names the first bad key.
-#include "bench/harness/scene_file.hpp"
+#include "scene_file/scene_file.hpp"
 
 #include <algorithm>
 #include <array>
@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "bench/harness/scene_file_text.hpp"
 #include "core/weave.hpp"
+#include "scene_file/scene_file_text.hpp"
 
 namespace chainmail {
 namespace {

@@ -1,6 +1,6 @@
 // Scene text: reading a scene file safely, strict JSON parsing, --set overrides, and the
 // one-line message helpers the reader shares.
-#include "bench/harness/scene_file_text.hpp"
+#include "scene_file/scene_file_text.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -17,7 +17,7 @@
 #include <utility>
 #include <vector>
 
-#include "bench/harness/scene_file.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 

@@ -2,7 +2,7 @@
 // it back gives the same scene and its hash keys cached reference runs.
 #include <cstdint>
 
-#include "bench/harness/scene_file.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {
