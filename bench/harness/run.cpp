@@ -8,7 +8,9 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <utility>
 
+#include "backends/open_backend.hpp"
 #include "bench/harness/budget.hpp"
 #include "bench/harness/interrupt.hpp"
 #include "bench/harness/usage_error.hpp"
@@ -99,14 +101,13 @@ class BackendRunner {
         weave_(weave),
         options_(options),
         hook_(hook),
-        backend_(info.create()),
         scale_(energy_scale(scene, weave)),
         masses_(ring_masses(scene, weave)) {
+    OpenedBackend opened = open_backend(scene, weave, info, options.threads);
+    backend_ = std::move(opened.model);
     run_.name = info.name;
-    run_.knobs = resolve_knobs(scene, info);
+    run_.knobs = std::move(opened.knobs);
     run_.dt = run_.knobs.at("dt");
-    backend_->set_threads(options.threads);
-    backend_->reset(scene, weave, run_.knobs);
     total_steps_ = std::max(1LL, std::llround(scene.duration / run_.dt));
     steps_per_sample_ = std::max(1LL, std::llround(scene.sample_interval / run_.dt));
     metric_options_.other_pairs = options.other_pair_metrics;

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
+#include "backends/open_backend.hpp"
 #include "bench/harness/run.hpp"
 #include "bench/harness/usage_error.hpp"
 #include "core/parallel.hpp"
@@ -23,14 +25,13 @@ SharedModel::SharedModel(Scene scene, const std::string& backend, int threads)
     throw UsageError("backend '" + backend + "': one backend is needed (" +
                      join_names(built_backend_names()) + ")");
   }
-  const BackendInfo& info = *found;
-  knobs_ = resolve_knobs(scene_, info);
-  const KnobSpec* dt = find_knob(info, "dt");
+  const KnobSpec* dt = find_knob(*found, "dt");
   dt_min_ = dt->min, dt_max_ = dt->max;
   weave_ = make_weave(scene_.weave, scene_.ring);
-  model_ = info.create();
-  model_->set_threads(threads > 0 ? threads : hardware_threads());
-  model_->reset(scene_, weave_, knobs_);
+  OpenedBackend opened =
+      open_backend(scene_, weave_, *found, threads > 0 ? threads : hardware_threads());
+  model_ = std::move(opened.model);
+  knobs_ = std::move(opened.knobs);
 }
 
 void SharedModel::check_step(double dt, long long n) const {
