@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "backends/backend.hpp"
-#include "bench/harness/bench_suite.hpp"
-#include "bench/harness/run.hpp"
+#include "bench/harness/run/run.hpp"
+#include "bench/harness/suites/bench_suite.hpp"
 #include "core/capsule_torus.hpp"
 #include "core/metrics.hpp"
 #include "scene_file/scene_file.hpp"

@@ -9,7 +9,7 @@
 #include <thread>
 #include <vector>
 
-#include "bench/harness/shared_model.hpp"
+#include "bench/harness/run/shared_model.hpp"
 #include "scene_file/scene_file.hpp"
 
 namespace chainmail {
