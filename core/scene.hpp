@@ -1,5 +1,5 @@
 // Scene: one description of one experiment, shared by every backend. Plain structs: scene files
-// are read, validated and written by bench/harness/scene_file.hpp (see docs/scene-file.md).
+// are read, validated and written by scene_file/scene_file.hpp (see docs/scene-file.md).
 #pragma once
 
 #include <map>

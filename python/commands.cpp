@@ -9,9 +9,9 @@
 
 #include <pybind11/stl.h>
 
-#include "bench/harness/commands.hpp"
-#include "bench/harness/interrupt.hpp"
-#include "bench/harness/sweep.hpp"
+#include "bench/harness/commands/commands.hpp"
+#include "bench/harness/common/interrupt.hpp"
+#include "bench/harness/suites/sweep.hpp"
 #include "python/bindings.hpp"
 
 namespace chainmail::python {

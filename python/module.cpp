@@ -3,12 +3,12 @@
 #include <pybind11/stl.h>
 
 #include "backends/backend.hpp"
-#include "bench/harness/info_commands.hpp"
-#include "bench/harness/output_error.hpp"
-#include "bench/harness/scene_file.hpp"
-#include "bench/harness/usage_error.hpp"
-#include "bench/harness/version.hpp"
+#include "bench/harness/commands/info_commands.hpp"
+#include "bench/harness/common/usage_error.hpp"
+#include "bench/harness/common/version.hpp"
+#include "bench/harness/output/output_error.hpp"
 #include "python/bindings.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail::python {
 

@@ -8,13 +8,13 @@
 #include <pybind11/stl.h>
 
 #include "backends/backend.hpp"
-#include "bench/harness/data_dir.hpp"
-#include "bench/harness/output.hpp"
-#include "bench/harness/run.hpp"
-#include "bench/harness/scene_file.hpp"
-#include "bench/harness/shared_model.hpp"
+#include "bench/harness/common/data_dir.hpp"
+#include "bench/harness/output/output.hpp"
+#include "bench/harness/run/run.hpp"
+#include "bench/harness/run/shared_model.hpp"
 #include "core/metrics.hpp"
 #include "python/bindings.hpp"
+#include "scene_file/scene_file.hpp"
 #if CHAINMAIL_HAVE_RENDER
 #include "core/parallel.hpp"
 #include "render/renderer.hpp"

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Structure rules the code base keeps (run by ctest as `structure`):
 
-- no production function (core/, backends/, bench/, render/, python/; C++ and Python) longer than
-  80 lines (header line to closing brace), but for those listed in OVER_LIMIT;
+- no production function (core/, backends/, scene_file/, bench/, render/, python/; C++ and
+  Python) longer than 80 lines (header line to closing brace), but for those listed in OVER_LIMIT;
 - no C++ source file anywhere in the project longer than 500 lines;
 - no header under core/ includes a JSON header (core depends on Eigen only);
 - a file in core/ itself (the vocabulary every model shares) is included from more than one place:
@@ -24,8 +24,8 @@ import re
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
-SOURCE_DIRS = ["core", "backends", "bench", "render", "python", "tests"]
-FUNCTION_DIRS = ["core", "backends", "bench", "render", "python"]
+SOURCE_DIRS = ["core", "backends", "scene_file", "bench", "render", "python", "tests"]
+FUNCTION_DIRS = ["core", "backends", "scene_file", "bench", "render", "python"]
 MAX_FUNCTION_LINES = 80
 MAX_FILE_LINES = 500
 # functions still over the limit, each (file name, function) awaiting its split: named one by one so that no
@@ -36,9 +36,9 @@ PROJECT_INCLUDE = re.compile(r'^[ \t]*#[ \t]*include[ \t]*"([^"]+)"', re.M)
 CYCLE_DIRS = SOURCE_DIRS + ["python", "examples"]
 # cycles present when the check was added, each as its sorted files (paths without extension)
 KNOWN_CYCLES = [
-    ["bench/harness/output", "bench/harness/table_cells"],
-    ["bench/harness/scene_file", "bench/harness/scene_file_text"],
-    ["bench/harness/sweep", "bench/harness/sweep_jobs"],
+    ["bench/harness/output/output", "bench/harness/output/table_cells"],
+    ["bench/harness/suites/sweep", "bench/harness/suites/sweep_jobs"],
+    ["scene_file/scene_file", "scene_file/scene_file_text"],
     ["core/plausible/plausible", "core/plausible/plausible_blocks", "core/plausible/plausible_rings",
      "core/plausible/plausible_sweep", "core/plausible/simd_rings"],
 ]

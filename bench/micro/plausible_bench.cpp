@@ -7,10 +7,10 @@
 
 #include <benchmark/benchmark.h>
 
-#include "bench/harness/scene_file.hpp"
 #include "bench/micro/stage_counters.hpp"
 #include "core/plausible/plausible.hpp"
 #include "core/weave.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace {
 

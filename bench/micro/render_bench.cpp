@@ -10,9 +10,9 @@
 #include <benchmark/benchmark.h>
 #include <nlohmann/json.hpp>
 
-#include "bench/harness/scene_file.hpp"
 #include "core/weave.hpp"
 #include "render/renderer.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace {
 

@@ -16,9 +16,9 @@
 
 #include "backends/backend.hpp"
 #include "backends/capsule_torus.hpp"
-#include "bench/harness/bench_suite.hpp"
-#include "bench/harness/run.hpp"
-#include "bench/harness/scene_file.hpp"
+#include "bench/harness/run/run.hpp"
+#include "bench/harness/suites/bench_suite.hpp"
+#include "scene_file/scene_file.hpp"
 #include "core/metrics.hpp"
 
 namespace {

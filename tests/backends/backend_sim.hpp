@@ -12,11 +12,11 @@
 #include <utility>
 
 #include "backends/backend.hpp"
-#include "bench/harness/scene_file.hpp"
 #include "core/frame.hpp"
 #include "core/geometry.hpp"
 #include "core/scene.hpp"
 #include "core/weave.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail::test {
 

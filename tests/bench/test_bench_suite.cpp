@@ -8,13 +8,13 @@
 #include <sstream>
 
 #include "backends/backend.hpp"
-#include "bench/harness/bench_suite.hpp"
-#include "bench/harness/budget.hpp"
-#include "bench/harness/commands.hpp"
-#include "bench/harness/process.hpp"
-#include "bench/harness/scaling.hpp"
-#include "bench/harness/scene_file.hpp"
-#include "bench/harness/sweep.hpp"
+#include "bench/harness/commands/commands.hpp"
+#include "bench/harness/run/budget.hpp"
+#include "bench/harness/suites/bench_suite.hpp"
+#include "bench/harness/suites/process.hpp"
+#include "bench/harness/suites/scaling.hpp"
+#include "bench/harness/suites/sweep.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

@@ -10,8 +10,8 @@
 #include <string>
 
 #include "backends/backend.hpp"
-#include "bench/harness/scene_file.hpp"
-#include "bench/harness/version.hpp"
+#include "bench/harness/common/version.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

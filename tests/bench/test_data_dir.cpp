@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <string>
 
-#include "bench/harness/data_dir.hpp"
-#include "bench/harness/usage_error.hpp"
+#include "bench/harness/common/data_dir.hpp"
+#include "bench/harness/common/usage_error.hpp"
 
 namespace chainmail {
 namespace {

@@ -11,8 +11,8 @@
 #include <map>
 #include <vector>
 
-#include "bench/harness/export.hpp"
-#include "bench/harness/usage_error.hpp"
+#include "bench/harness/common/usage_error.hpp"
+#include "bench/harness/output/export.hpp"
 #include "core/weave.hpp"
 #include "glb_reader.hpp"
 

@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "backends/backend.hpp"
-#include "bench/harness/run.hpp"
-#include "bench/harness/scene_file.hpp"
+#include "bench/harness/run/run.hpp"
 #include "core/weave.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

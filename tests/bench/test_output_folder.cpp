@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-#include "bench/harness/output_folder.hpp"
+#include "bench/harness/output/output_folder.hpp"
 #include "core/scene.hpp"
 
 namespace chainmail {

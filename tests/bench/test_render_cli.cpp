@@ -30,11 +30,11 @@
 #pragma GCC diagnostic pop
 #endif
 
-#include "bench/harness/render_output.hpp"
-#include "bench/harness/run.hpp"
-#include "bench/harness/scene_file.hpp"
+#include "bench/harness/output/render_output.hpp"
+#include "bench/harness/run/run.hpp"
 #include "core/scene.hpp"
 #include "glb_reader.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

@@ -8,15 +8,15 @@
 #include <thread>
 
 #include "backends/backend.hpp"
-#include "bench/harness/commands.hpp"
-#include "bench/harness/frame_stream.hpp"
-#include "bench/harness/output.hpp"
-#include "bench/harness/run.hpp"
-#include "bench/harness/scene_file.hpp"
-#include "bench/harness/sweep.hpp"
-#include "bench/harness/usage_error.hpp"
-#include "bench/harness/version.hpp"
+#include "bench/harness/commands/commands.hpp"
+#include "bench/harness/common/usage_error.hpp"
+#include "bench/harness/common/version.hpp"
+#include "bench/harness/output/frame_stream.hpp"
+#include "bench/harness/output/output.hpp"
+#include "bench/harness/run/run.hpp"
+#include "bench/harness/suites/sweep.hpp"
 #include "core/parallel.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

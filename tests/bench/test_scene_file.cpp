@@ -8,9 +8,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "bench/harness/scene_file.hpp"
-#include "scene_documents.hpp"
 #include "core/weave.hpp"
+#include "scene_documents.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

@@ -5,8 +5,8 @@
 #include <set>
 #include <string>
 
-#include "bench/harness/scene_file.hpp"
 #include "scene_documents.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

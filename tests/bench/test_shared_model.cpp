@@ -9,8 +9,8 @@
 #include <thread>
 #include <vector>
 
-#include "bench/harness/scene_file.hpp"
-#include "bench/harness/shared_model.hpp"
+#include "bench/harness/run/shared_model.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

@@ -5,8 +5,8 @@
 #include <stdexcept>
 
 #include "backends/backend.hpp"
-#include "bench/harness/budget.hpp"
-#include "bench/harness/stability.hpp"
+#include "bench/harness/run/budget.hpp"
+#include "bench/harness/suites/stability.hpp"
 #include "core/weave.hpp"
 
 namespace chainmail {

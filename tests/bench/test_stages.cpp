@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/harness/commands.hpp"
+#include "bench/harness/commands/commands.hpp"
 
 namespace chainmail {
 namespace {

@@ -6,11 +6,11 @@
 #include <sstream>
 
 #include "backends/backend.hpp"
-#include "bench/harness/commands.hpp"
-#include "bench/harness/process.hpp"
-#include "bench/harness/scene_file.hpp"
-#include "bench/harness/sweep.hpp"
-#include "bench/harness/usage_error.hpp"
+#include "bench/harness/commands/commands.hpp"
+#include "bench/harness/common/usage_error.hpp"
+#include "bench/harness/suites/process.hpp"
+#include "bench/harness/suites/sweep.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

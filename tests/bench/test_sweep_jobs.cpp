@@ -8,11 +8,11 @@
 #include <fstream>
 #include <sstream>
 
-#include "bench/harness/commands.hpp"
-#include "bench/harness/output_folder.hpp"
-#include "bench/harness/process.hpp"
-#include "bench/harness/sweep.hpp"
-#include "bench/harness/usage_error.hpp"
+#include "bench/harness/commands/commands.hpp"
+#include "bench/harness/common/usage_error.hpp"
+#include "bench/harness/output/output_folder.hpp"
+#include "bench/harness/suites/process.hpp"
+#include "bench/harness/suites/sweep.hpp"
 
 namespace chainmail {
 namespace {

@@ -3,7 +3,7 @@
 
 #include <sstream>
 
-#include "bench/harness/table_cells.hpp"
+#include "bench/harness/output/table_cells.hpp"
 
 namespace chainmail {
 namespace {

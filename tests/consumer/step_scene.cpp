@@ -8,8 +8,8 @@
 #include <string>
 
 #include <chainmail/backends/backend.hpp>
-#include <chainmail/bench/harness/scene_file.hpp>
 #include <chainmail/core/weave.hpp>
+#include <chainmail/scene_file/scene_file.hpp>
 
 #include "relaxed_backend.hpp"
 

@@ -3,7 +3,7 @@
 // one that opens reads every record without reading outside it.
 #include <cmath>
 
-#include "bench/harness/frame_stream.hpp"
+#include "bench/harness/output/frame_stream.hpp"
 #include "tests/fuzz/fuzz_input.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

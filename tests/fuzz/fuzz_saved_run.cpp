@@ -1,8 +1,8 @@
 // `chainmail render RUN_DIR`'s loader: the input is summary.json, metrics.csv and one frame CSV
 // (frames/<first backend>/00000.csv), separated by NUL bytes. A folder chainmail could not have
 // written must be a UsageError or SceneError naming it (exit 2); anything else is a bug.
-#include "bench/harness/saved_run.hpp"
-#include "bench/harness/usage_error.hpp"
+#include "bench/harness/common/usage_error.hpp"
+#include "bench/harness/output/saved_run.hpp"
 #include "core/scene.hpp"
 #include "tests/fuzz/fuzz_input.hpp"
 

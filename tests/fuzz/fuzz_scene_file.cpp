@@ -2,8 +2,8 @@
 // ("key=value"), separated by NUL bytes. Bad input must be a SceneError (exit 2 on the command
 // line); anything else escaping is a bug. A scene that loads must write back to a document that
 // loads to the same scene.
-#include "bench/harness/scene_file.hpp"
 #include "core/scene.hpp"
+#include "scene_file/scene_file.hpp"
 #include "tests/fuzz/fuzz_input.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

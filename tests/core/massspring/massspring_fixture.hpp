@@ -7,8 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/harness/scene_file.hpp"
 #include "core/massspring/massspring.hpp"
+#include "scene_file/scene_file.hpp"
 #include "core/spatial_hash.hpp"
 #include "core/weave.hpp"
 

@@ -9,10 +9,10 @@
 #include <stdexcept>
 #include <utility>
 
-#include "bench/harness/scene_file.hpp"
 #include "core/geometry.hpp"
 #include "core/plausible/orientation.hpp"
 #include "core/plausible/plausible.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

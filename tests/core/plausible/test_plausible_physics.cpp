@@ -8,7 +8,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/harness/scene_file.hpp"
 #include "core/colliders.hpp"
 #include "core/geometry.hpp"
 #include "core/massspring/massspring.hpp"
@@ -17,6 +16,7 @@
 #include "core/plausible/plausible.hpp"
 #include "core/weave.hpp"
 #include "physics_oracles.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {

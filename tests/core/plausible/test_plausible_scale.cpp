@@ -5,11 +5,11 @@
 #include <algorithm>
 #include <cstdint>
 
-#include "bench/harness/scene_file.hpp"
 #include "core/plausible/pin_attachments.hpp"
 #include "core/plausible/pin_paths.hpp"
 #include "core/plausible/plausible.hpp"
 #include "core/plausible/plausible_sweep.hpp"
+#include "scene_file/scene_file.hpp"
 #include "core/weave.hpp"
 
 namespace chainmail {

@@ -14,11 +14,11 @@
 #include <nlohmann/json.hpp>
 
 #include "backends/collider_cases.hpp"
-#include "bench/harness/scene_file.hpp"
 #include "core/circle_contact.hpp"
 #include "core/colliders.hpp"
 #include "core/metrics.hpp"
 #include "core/torus_xpbd/torus_xpbd.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {
