@@ -231,8 +231,9 @@ class PlausibleSim {
   // result); 1 by default
   void set_threads(int threads) { threads_ = threads < 1 ? 1 : threads; }
   int threads() const { return threads_; }
-  // the banded sweeps' pairs and the per-ring passes four at a time in SIMD lanes where the
-  // machine has them (on by default; the same bits either way: off serves to compare)
+  // the banded sweeps' pairs and the per-ring passes go four at a time in lanes, AVX2 where the
+  // machine has it (on by default); off takes the portable lanes anyway: a hook for tests and
+  // benchmarks to compare the two builds of the kernels (the same bits)
   void set_vector_sweeps(bool on) { vector_sweeps_ = on; }
   bool vector_sweeps() const { return vector_sweeps_; }
   // one sweep of the attachments, edges and diagonals, band by band (core/plausible_bands.cpp):

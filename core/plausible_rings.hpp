@@ -1,8 +1,7 @@
 // The plausible model's two passes over every ring each substep, the prediction and the velocity
-// update, four rings at a time in AVX2 lanes where the machine has them (core/plausible_blocks:
-// vector_sweeps_available). Four consecutive rings are 12 consecutive doubles in each (3, n)
-// array, and both passes work coordinate by coordinate, so the lanes need no shuffling, only a
-// mask for the pinned rings; each lane does the scalar pass's arithmetic (the same bits).
+// update, four rings at a time in lanes (core/plausible_rings_kernel.hpp): AVX2 where the machine
+// has it (core/plausible_blocks: vector_sweeps_available), else the portable lanes, the same bits.
+// `vector` false asks for the portable lanes anyway: a hook for tests and benchmarks.
 #pragma once
 
 #include <limits>
@@ -35,7 +34,6 @@ struct RingMoves {
 // rings [begin, end) under gravity alone: previous = position, contact_push = 0, and for a free
 // ring velocity += fall, position += h velocity (pinned rings keep both). With an anchor (3 n),
 // also the moves of the new positions from it (one pass less than measuring them after).
-// vector: in AVX2 lanes where the machine has them
 RingMoves predict_rings(const RingArrays& rings, const Vec3& fall, double h, int begin, int end,
                         bool vector = true, const double* anchor = nullptr);
 
