@@ -21,7 +21,7 @@ struct MoveLanes {
 };
 
 // rings i .. i + 3, free where `free` (the 12 coordinates' parts)
-CHAINMAIL_LANES_INLINE void free_rings(const RingArrays& r, std::ptrdiff_t i, M free[3]) {
+CHAINMAIL_LANES_INLINE void free_rings(RingArrays r, std::ptrdiff_t i, M free[3]) {
   spread(L::load(r.inverse_mass + i) != L::zero(), free);
 }
 
@@ -29,8 +29,8 @@ CHAINMAIL_LANES_INLINE void free_rings(const RingArrays& r, std::ptrdiff_t i, M 
 // the substep before (update_ring_velocities) first. fall: gravity's step in the coordinates'
 // pattern. min(m, lo) and max(m, hi) keep lo and hi on a NaN move
 template <bool velocities_first>
-CHAINMAIL_LANES_INLINE void predict_group(const RingArrays& r, std::ptrdiff_t i, const L fall[3],
-                                          L step, const double* anchor, MoveLanes& moves) {
+CHAINMAIL_LANES_INLINE void predict_group(RingArrays r, std::ptrdiff_t i, const L fall[3], L step,
+                                          const double* anchor, MoveLanes& moves) {
   const std::ptrdiff_t at = 3 * i;
   M free[3];
   free_rings(r, i, free);
@@ -62,7 +62,7 @@ CHAINMAIL_LANES_INLINE void predict_group(const RingArrays& r, std::ptrdiff_t i,
 }
 
 // update_ring_velocities on rings i .. i + 3
-CHAINMAIL_LANES_INLINE void velocities_group(const RingArrays& r, std::ptrdiff_t i, L step) {
+CHAINMAIL_LANES_INLINE void velocities_group(RingArrays r, std::ptrdiff_t i, L step) {
   const std::ptrdiff_t at = 3 * i;
   M free[3];
   free_rings(r, i, free);
@@ -122,13 +122,14 @@ CHAINMAIL_LANES_INLINE void join_lanes(const MoveLanes& lanes, RingMoves& moves)
 }
 
 template <bool velocities_first>
-CHAINMAIL_LANES_FN RingMoves predict(const RingArrays& r, const Vec3& fall, double h, int begin,
+CHAINMAIL_LANES_FN RingMoves predict(const RingArrays& rings, const Vec3& fall, double h, int begin,
                                      int end, const double* anchor) {
   // gravity's step in the 12-coordinate pattern
   const L fall_part[3] = {L::set(fall.x(), fall.y(), fall.z(), fall.x()),
                           L::set(fall.y(), fall.z(), fall.x(), fall.y()),
                           L::set(fall.z(), fall.x(), fall.y(), fall.z())};
   const L step = L::splat(h);
+  const RingArrays r = rings;  // the pointers in registers: no store can move them
   MoveLanes lanes;
   for (int k = 0; k < 3; ++k) lanes.lo[k] = L::splat(RingMoves::kInf);
   for (int k = 0; k < 3; ++k) lanes.hi[k] = L::splat(-RingMoves::kInf);
@@ -159,8 +160,10 @@ CHAINMAIL_LANES_FN RingMoves update_velocities_and_predict(const RingArrays& r, 
   return predict<true>(r, fall, h, begin, end, anchor);
 }
 
-CHAINMAIL_LANES_FN void update_ring_velocities(const RingArrays& r, double h, int begin, int end) {
+CHAINMAIL_LANES_FN void update_ring_velocities(const RingArrays& rings, double h, int begin,
+                                               int end) {
   const L step = L::splat(h);
+  const RingArrays r = rings;  // as in predict
   int i = begin;
   for (; i + 4 <= end; i += 4) velocities_group(r, i, step);
   if (i < end) {
