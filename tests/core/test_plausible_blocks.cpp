@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/plausible_blocks.hpp"
+#include "core/plausible_lanes.hpp"
 #include "core/plausible_sweep.hpp"
 
 namespace chainmail {
@@ -25,6 +26,18 @@ bool same_bits(const std::vector<double>& x, const std::vector<double>& y) {
     if (std::memcmp(&x[i], &y[i], sizeof(double)) != 0) return false;
   }
   return true;
+}
+
+TEST(PlausibleBlocks, TheVectorHookPicksTheLaneBuild) {
+  // off: the portable build (what the comparisons below rely on); on: AVX2 where the machine has
+  // it, a build of its own
+  EXPECT_EQ(&lane_kernels(false), &kScalarLaneKernels);
+#if defined(CHAINMAIL_AVX2_SWEEPS)
+  EXPECT_EQ(&lane_kernels(true),
+            vector_sweeps_available() ? &kAvx2LaneKernels : &kScalarLaneKernels);
+  EXPECT_NE(kAvx2LaneKernels.sweep_pair_blocks, kScalarLaneKernels.sweep_pair_blocks);
+  EXPECT_NE(kAvx2LaneKernels.predict_rings, kScalarLaneKernels.predict_rings);
+#endif
 }
 
 TEST(PlausibleBlocks, FourPairsMakeABlockOnlyAsARunOrAnAdjacentSetWithoutPins) {
