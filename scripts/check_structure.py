@@ -39,8 +39,6 @@ KNOWN_CYCLES = [
     ["bench/harness/output/output", "bench/harness/output/table_cells"],
     ["bench/harness/suites/sweep", "bench/harness/suites/sweep_jobs"],
     ["scene_file/scene_file", "scene_file/scene_file_text"],
-    ["core/plausible/plausible", "core/plausible/plausible_blocks", "core/plausible/plausible_rings",
-     "core/plausible/plausible_sweep", "core/plausible/simd_rings"],
 ]
 QUOTED_INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"', re.MULTILINE)
 # the folders whose files place a core/ file: its models' and the adapters' (bench/, tests/ and

@@ -1,8 +1,8 @@
 // The plausible step of a 256 x 256 curtain (65,536 rings, self-contact on, default knobs:
 // substeps of one sweep under the stretch control) on 1 and 2 threads. The sheet first falls
 // for 0.1 s from the layout, untimed, so the timed steps see links taut and rings moving; each
-// iteration then times 10 steps, with the sweeps' pairs in SIMD blocks (vector:1, the default)
-// or one by one (vector:0). Counters: ms per step in all and per stage, and the state hash (the
+// iteration then times 10 steps, with the lane kernels in AVX2 where the machine has it
+// (vector:1, the default) or in the portable lanes (vector:0). Counters: ms per step in all and per stage, and the state hash (the
 // same on any thread count, either way).
 #include <string>
 

@@ -19,6 +19,7 @@
 #include "core/plausible/pin_paths.hpp"
 #include "core/plausible/plausible_rings.hpp"
 #include "core/plausible/projection.hpp"
+#include "core/plausible/sweep_records.hpp"
 #include "core/profile.hpp"
 #include "core/scene.hpp"
 #include "core/spatial_hash.hpp"
@@ -80,85 +81,20 @@ struct PlausibleSettings {
   // when Gauss-Seidel sweeps alone would need O(rows^2) iterations. Off by default: the Newton
   // steps converge without it, and its one-sided moves bias the shape (a catenary sags 5 % less)
   bool shock_propagation = false;
-  // long-range attachments (core/pin_attachments): each ring no farther from its nearest pins
-  // than its links to them allow, projected first in every sweep, so a hanging sheet's stretch
+  // long-range attachments (core/plausible/pin_attachments): each ring no farther from its nearest
+  // pins than its links to them allow, projected first in every sweep, so a hanging sheet's stretch
   // does not need O(rows^2) sweeps; a bound real rings never exceed, so it biases nothing
   bool pin_attachments = true;
   // 4-in-1: how close neighbours, rings that share two neighbours (i +- 1, j +- 1) and rings a row
   // and a half apart (i +- 2, j +- 1), (i +- 1, j +- 2) can come, from the ring geometry
-  // (core/weave_limits), enforced in the sweeps; off: the paper's rule, neighbours as close as the
-  // wire thickness and the sheet never compressed along both axes
+  // (core/plausible/weave_limits), enforced in the sweeps; off: the paper's rule, neighbours as
+  // close as the wire thickness and the sheet never compressed along both axes
   bool compression_limits = true;
   // 4-in-1: each ring's swivel hinge turns toward the pins it hangs from, the direction propagated
   // from the pins through the weave (core/pin_paths; paper §6), so a sheet hung from its corners
   // leans along the diagonals; off, or without pins: the row normal (weighted by the neighbour
   // distances) everywhere
   bool swivel_from_pins = true;
-};
-
-// one Provot edge: a plain record, solved by solve_edge_constraint
-struct EdgeConstraint {
-  int a, b;
-  double min_length;  // m
-  double max_length;  // m
-};
-
-// four pairs of a stage solved together in SIMD lanes (core/plausible_blocks), or one alone
-struct PairBlock {
-  enum class Kind : int {
-    single,    // pairs[pair] alone (scalar)
-    run,       // (a + i, b + i), i = 0..3, the two runs of rings apart
-    adjacent,  // (a + 2 i, a + 2 i + 1), i = 0..3: rings a .. a + 7
-  };
-  int a = 0, b = 0;  // the first pair's rings
-  Kind kind = Kind::single;
-  int pair = 0;  // the first pair's index in the stage's list
-  // run or adjacent with shared bounds: groups of four, each continuing the last (its rings 4,
-  // or for adjacent sets 8, further on, its pairs the next four), solved one after the other
-  // without reading another block (a regular weave's colours run along whole rows)
-  int groups = 1;
-  // m, the four pairs' bounds where they share them (else read from the pairs)
-  bool shared_bounds = true;
-  double min_length = 0.0, max_length = 0.0;
-  int pairs() const { return kind == Kind::single ? 1 : 4 * groups; }
-};
-
-// a long-range attachment of a sweep's list alone, or groups of four attachments of consecutive
-// rings solved together in SIMD lanes (core/plausible_blocks)
-struct AttachmentBlock {
-  int item = 0;  // the first attachment's index in its list
-  // groups of four consecutive rings, each continuing the last (its rings 4 further on, its
-  // attachments the next four); 0: the item alone
-  int groups = 0;
-  // each group's four pins are consecutive rings too, each group's 4 on from the last's (rings
-  // along a pinned edge hang from the pins along it)
-  bool pin_run = false;
-  int items() const { return groups == 0 ? 1 : 4 * groups; }
-};
-
-// the sweep's attachments, edges and diagonals as stages (an attachment list, a colour) cut into
-// bands of consecutive rings (core/plausible_bands.cpp), each band at least as wide as the
-// farthest any pair reaches (|a - b|): a pair joins its lower ring's band to itself or the next.
-// Each thread takes a run of bands through the stages in order and waits only where a
-// neighbouring band of another thread has not finished the stage before; the result is that of
-// the coloured sweep, stage after stage over the whole sheet
-struct SweepBands {
-  enum class Kind { attachments, edges, diagonals };
-  struct Stage {
-    Kind kind = Kind::edges;
-    int list = 0;                 // attachments: which list
-    std::vector<int> band_start;  // (bands + 1) the stage's items of each band, into its list
-    // edges and diagonals: the stage's pairs as blocks, band by band
-    std::vector<PairBlock> blocks;
-    std::vector<int> block_start;  // (bands + 1) each band's blocks, into (attachment_)blocks
-    // attachments: the list's items as blocks, band by band, and their max_distance in the
-    // list's order (m: four load as one vector)
-    std::vector<AttachmentBlock> attachment_blocks;
-    std::vector<double> reach;
-  };
-  std::vector<int> first_ring;  // (bands + 1)
-  std::vector<Stage> stages;    // in the sweep's order
-  int bands() const { return static_cast<int>(first_ring.size()) - 1; }
 };
 
 // the pairs the sweeps hold already: linked neighbours (the edges) and, where the model bounds
@@ -201,7 +137,7 @@ struct PlausibleModel {
   Colouring diagonal_colours;
   PinPaths pin_paths;  // 4-in-1 with swivel_from_pins: the rings breadth-first from the pins
   GridKeys grid;       // which pairs the sweeps hold (the contact list leaves them out)
-  // the attachments, edges and diagonals in bands (core/plausible_bands.cpp)
+  // the attachments, edges and diagonals in bands (core/plausible/plausible_bands.cpp)
   SweepBands bands;
   std::vector<Collider> colliders;
   Vec3 gravity = Vec3::Zero();  // m/s^2
@@ -276,13 +212,15 @@ class PlausibleSim {
   // result); 1 by default
   void set_threads(int threads) { threads_ = threads < 1 ? 1 : threads; }
   int threads() const { return threads_; }
-  // the banded sweeps' pairs and the per-ring passes four at a time in SIMD lanes where the
-  // machine has them (on by default; the same bits either way: off serves to compare)
+  // the banded sweeps' pairs and the per-ring passes go four at a time in lanes, AVX2 where the
+  // machine has it (on by default); off takes the portable lanes anyway: a hook for tests and
+  // benchmarks to compare the two builds of the kernels (the same bits)
   void set_vector_sweeps(bool on) { vector_sweeps_ = on; }
   bool vector_sweeps() const { return vector_sweeps_; }
-  // one sweep of the attachments, edges and diagonals, band by band (core/plausible_bands.cpp):
-  // what each constraint sweep runs before the contacts and colliders. Its result is that of the
-  // colour-by-colour sweep (tests/core keeps that as the oracle); the largest violation met, m
+  // one sweep of the attachments, edges and diagonals, band by band
+  // (core/plausible/plausible_bands.cpp): what each constraint sweep runs before the contacts and
+  // colliders. Its result is that of the colour-by-colour sweep (tests/core keeps that as the
+  // oracle); the largest violation met, m
   double sweep_links();
 
   const PlausibleModel& model() const { return model_; }
@@ -343,15 +281,16 @@ class PlausibleSim {
   double collider_rows(double near, std::vector<ProjectionRow>& rows);
   // one sweep over the contact list's pairs; the largest violation met, m
   double solve_contacts();
-  // the attachments, edges and diagonals of a sweep in bands (core/plausible_bands.cpp); the
-  // lists and colours are reordered by band within each colour (no result changes)
+  // the attachments, edges and diagonals of a sweep in bands (core/plausible/plausible_bands.cpp);
+  // the lists and colours are reordered by band within each colour (no result changes)
   void build_sweep_bands();
   // the threads' runs of bands, (members + 1) first band of each, moved a band at a time toward
   // the thread that worked less in the last sweep (the top of a hanging sheet has more to
   // correct); scheduling only: any split gives the same bits
   void balance_band_split(const std::vector<double>& busy);
   double solve_stage_band(const SweepBands::Stage& stage, int band);
-  // the diagonal records and the neighbours' closest approach (core/plausible_weave.cpp), m
+  // the diagonal records and the neighbours' closest approach (core/plausible/plausible_weave.cpp),
+  // m
   double build_compression_limits();
   double collide();
   // m, how far ring's centre must stay from a collider with outward normal n

@@ -16,7 +16,6 @@
 #include "core/plausible/constraints.hpp"
 #include "core/plausible/plausible.hpp"
 #include "core/plausible/plausible_blocks.hpp"
-#include "core/plausible/plausible_sweep.hpp"
 
 namespace chainmail {
 namespace {
@@ -242,28 +241,17 @@ void PlausibleSim::balance_band_split(const std::vector<double>& busy) {
 double PlausibleSim::solve_stage_band(const SweepBands::Stage& stage, int band) {
   double* const x = state_.position.data();            // (3 n) m
   const double* const w = model_.inverse_mass.data();  // (n) 1/kg
-  const int begin = stage.band_start[band], end = stage.band_start[band + 1];
-  double worst = 0.0;  // m
+  const int first = stage.block_start[band];           // the band's first block
   if (stage.kind == SweepBands::Kind::attachments) {
     const PinAttachment* const list = model_.attachments[stage.list].data();
-    if (vector_sweeps_) {
-      const int first = stage.block_start[band];
-      return sweep_attachment_blocks(x, list, stage.reach.data(),
-                                     stage.attachment_blocks.data() + first,
-                                     stage.block_start[band + 1] - first);
-    }
-    for (int k = begin; k < end; ++k) worst = std::max(worst, sweep_attachment(x, list[k]));
-    return worst;
+    return sweep_attachment_blocks(x, list, stage.reach.data(),
+                                   stage.attachment_blocks.data() + first,
+                                   stage.block_start[band + 1] - first, vector_sweeps_);
   }
   const EdgeConstraint* const pairs =
       (stage.kind == SweepBands::Kind::edges ? model_.edges : model_.diagonals).data();
-  if (vector_sweeps_) {
-    const int first = stage.block_start[band];
-    return sweep_pair_blocks(x, w, pairs, stage.blocks.data() + first,
-                             stage.block_start[band + 1] - first);
-  }
-  for (int k = begin; k < end; ++k) worst = std::max(worst, sweep_pair(x, w, pairs[k]));
-  return worst;
+  return sweep_pair_blocks(x, w, pairs, stage.blocks.data() + first,
+                           stage.block_start[band + 1] - first, vector_sweeps_);
 }
 
 }  // namespace chainmail

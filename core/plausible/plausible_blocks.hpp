@@ -4,22 +4,19 @@
 // consecutive rings, so their positions load as whole vectors instead of one scalar at a time.
 // A block does per lane exactly the arithmetic of solve_edge_constraint (no fused multiply-add,
 // the same order of operations; square root and division are correctly rounded in both), and a
-// colour's pairs share no ring, so the blocks give the scalar sweep's bits.
+// colour's pairs share no ring, so the blocks give the scalar sweep's bits. The lanes are AVX2
+// where the machine has it, else portable (core/plausible/lanes.hpp), with the same bits; `vector`
+// false asks for the portable lanes anyway (a hook for tests and benchmarks).
 #pragma once
 
 #include <vector>
 
-#include "core/plausible/plausible.hpp"
-
-// x86 with GCC or Clang: the AVX2 code is compiled in, and runs where the machine has AVX2
-#if (defined(__x86_64__) || defined(__i386__)) && defined(__GNUC__)
-#define CHAINMAIL_AVX2_SWEEPS 1
-#endif
+#include "core/plausible/pin_attachments.hpp"
+#include "core/plausible/sweep_records.hpp"
 
 namespace chainmail {
 
-// whether this machine runs the blocks' vector code (x86 with AVX2; elsewhere the sweeps stay
-// scalar)
+// whether this machine runs the AVX2 lane kernels (x86 with AVX2; elsewhere the portable lanes)
 bool vector_sweeps_available();
 
 // pairs [begin, end) of one stage (no two share a ring) as blocks, in order: four pairs make a
@@ -29,10 +26,9 @@ bool vector_sweeps_available();
 std::vector<PairBlock> make_pair_blocks(const EdgeConstraint* pairs, int begin, int end,
                                         const std::vector<double>& inverse_mass);
 
-// one sweep over blocks [0, count); the largest violation met, m (as the scalar sweep's). In
-// AVX2 lanes where vector_sweeps_available(), else pair by pair
+// one sweep over blocks [0, count); the largest violation met, m (as the scalar sweep's)
 double sweep_pair_blocks(double* x, const double* w, const EdgeConstraint* pairs,
-                         const PairBlock* blocks, int count);
+                         const PairBlock* blocks, int count, bool vector = true);
 
 // attachments [begin, end) of one list (a ring at most once, sorted by ring) as blocks, in order:
 // four attachments of consecutive rings make a group, and groups that continue each other (in
@@ -40,9 +36,8 @@ double sweep_pair_blocks(double* x, const double* w, const EdgeConstraint* pairs
 std::vector<AttachmentBlock> make_attachment_blocks(const PinAttachment* list, int begin, int end);
 
 // one sweep over blocks [0, count) of `list`, whose max_distance `reach` also holds in the list's
-// order: each group's four in AVX2 lanes where vector_sweeps_available(), else one by one; the
-// largest violation met, m (as the scalar sweep's)
+// order: each group's four in lanes; the largest violation met, m (as the scalar sweep's)
 double sweep_attachment_blocks(double* x, const PinAttachment* list, const double* reach,
-                               const AttachmentBlock* blocks, int count);
+                               const AttachmentBlock* blocks, int count, bool vector = true);
 
 }  // namespace chainmail

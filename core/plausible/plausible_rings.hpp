@@ -1,41 +1,18 @@
 // The plausible model's two passes over every ring each substep, the prediction and the velocity
-// update, four rings at a time in AVX2 lanes where the machine has them (core/plausible_blocks:
-// vector_sweeps_available). Four consecutive rings are 12 consecutive doubles in each (3, n)
-// array, and both passes work coordinate by coordinate, so the lanes need no shuffling, only a
-// mask for the pinned rings; each lane does the scalar pass's arithmetic (the same bits).
+// update, four rings at a time in lanes (core/plausible/plausible_rings_kernel.hpp): AVX2 where the
+// machine has it (core/plausible/plausible_blocks: vector_sweeps_available), else the portable
+// lanes, the same bits. `vector` false asks for the portable lanes anyway: a hook for tests and
+// benchmarks.
 #pragma once
 
-#include <limits>
-
+#include "core/plausible/ring_arrays.hpp"
 #include "core/types.hpp"
 
 namespace chainmail {
 
-// the per-ring arrays the passes read and write
-struct RingArrays {
-  double* position;            // (3 n) m
-  double* velocity;            // (3 n) m/s
-  double* previous;            // (3 n) m
-  double* contact_push;        // (n) m
-  const double* inverse_mass;  // (n) 1/kg, 0: pinned
-};
-
-// how far rings have moved from an anchor (the positions the contact list was built at): the
-// farthest move, squared, and the box of all the moves; as constructed, of no ring (what join
-// starts from)
-struct RingMoves {
-  static constexpr double kInf = std::numeric_limits<double>::infinity();
-  double farthest2 = 0.0;                  // m^2
-  double lo[3] = {kInf, kInf, kInf};       // m
-  double hi[3] = {-kInf, -kInf, -kInf};    // m
-  void add(double x, double y, double z);  // one more ring's move, m
-  void join(const RingMoves& other);       // both sets of rings
-};
-
 // rings [begin, end) under gravity alone: previous = position, contact_push = 0, and for a free
 // ring velocity += fall, position += h velocity (pinned rings keep both). With an anchor (3 n),
 // also the moves of the new positions from it (one pass less than measuring them after).
-// vector: in AVX2 lanes where the machine has them
 RingMoves predict_rings(const RingArrays& rings, const Vec3& fall, double h, int begin, int end,
                         bool vector = true, const double* anchor = nullptr);
 

@@ -1,14 +1,14 @@
 // One pair or one attachment of the plausible model's sweeps, projected on the positions as a
-// plain array (3 n, m): the coloured sweep (core/plausible_solve.cpp) and the banded one
-// (core/plausible_bands.cpp) solve each item with these, so they give the same bits. A plain
-// pointer also spares the loop a reload of the positions' own pointer after every write.
+// plain array (3 n, m): the coloured sweep (core/plausible/plausible_solve.cpp) and the banded one
+// (core/plausible/plausible_bands.cpp) solve each item with these, so they give the same bits. A
+// plain pointer also spares the loop a reload of the positions' own pointer after every write.
 #pragma once
 
 #include <cstddef>
 
 #include "core/plausible/constraints.hpp"
 #include "core/plausible/pin_attachments.hpp"
-#include "core/plausible/plausible.hpp"
+#include "core/plausible/sweep_records.hpp"
 
 namespace chainmail {
 

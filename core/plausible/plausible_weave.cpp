@@ -1,5 +1,5 @@
-// The plausible model's compression limits from the weave's geometry (core/weave_limits): the
-// closest approach of linked neighbours, and the distance bounds of rings that share two
+// The plausible model's compression limits from the weave's geometry (core/plausible/weave_limits):
+// the closest approach of linked neighbours, and the distance bounds of rings that share two
 // neighbours, solved in the same sweeps as the edges; and the weave's grid packed for the contact
 // list's pair walk (GridKeys).
 #include <algorithm>
@@ -32,8 +32,8 @@ double PlausibleSim::build_compression_limits() {
     model_.diagonals.push_back({pair.a, pair.b, pair.min, pair.max});
   }
   // the sweeps solve four pairs at once where a colour runs through consecutive rings
-  // (core/plausible_blocks): listed by ring offset, then ring, these pairs colour into such runs
-  // (the links and the pairs above, listed row by row, already do)
+  // (core/plausible/plausible_blocks): listed by ring offset, then ring, these pairs colour into
+  // such runs (the links and the pairs above, listed row by row, already do)
   std::stable_sort(model_.diagonals.begin() + static_cast<std::ptrdiff_t>(first_knight),
                    model_.diagonals.end(), [](const EdgeConstraint& x, const EdgeConstraint& y) {
                      const int dx = x.b - x.a, dy = y.b - y.a;

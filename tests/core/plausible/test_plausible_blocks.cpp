@@ -1,7 +1,7 @@
 // The sweeps' blocks of four pairs (core/plausible/plausible_blocks): which pairs make a block, and
-// that a block's lanes give the bits of the scalar constraint functions, pair by pair, on
-// stretched, compressed, degenerate and NaN pairs. (Without AVX2 the blocks are swept pair by pair,
-// and the comparisons hold trivially.)
+// that a block's lanes, in either build of the kernels (portable, and AVX2 where the machine has
+// it), give the bits of the scalar constraint functions, pair by pair, on stretched, compressed,
+// degenerate and NaN pairs.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/plausible/plausible_blocks.hpp"
+#include "core/plausible/plausible_lanes.hpp"
 #include "core/plausible/plausible_sweep.hpp"
 
 namespace chainmail {
@@ -25,6 +26,18 @@ bool same_bits(const std::vector<double>& x, const std::vector<double>& y) {
     if (std::memcmp(&x[i], &y[i], sizeof(double)) != 0) return false;
   }
   return true;
+}
+
+TEST(PlausibleBlocks, TheVectorHookPicksTheLaneBuild) {
+  // off: the portable build (what the comparisons below rely on); on: AVX2 where the machine has
+  // it, a build of its own
+  EXPECT_EQ(&lane_kernels(false), &kScalarLaneKernels);
+#if defined(CHAINMAIL_AVX2_SWEEPS)
+  EXPECT_EQ(&lane_kernels(true),
+            vector_sweeps_available() ? &kAvx2LaneKernels : &kScalarLaneKernels);
+  EXPECT_NE(kAvx2LaneKernels.sweep_pair_blocks, kScalarLaneKernels.sweep_pair_blocks);
+  EXPECT_NE(kAvx2LaneKernels.predict_rings, kScalarLaneKernels.predict_rings);
+#endif
 }
 
 TEST(PlausibleBlocks, FourPairsMakeABlockOnlyAsARunOrAnAdjacentSetWithoutPins) {
@@ -140,15 +153,19 @@ TEST(PlausibleBlocks, BlocksGiveTheScalarSweepsBits) {
   for (int trial = 0; trial < 200; ++trial) {
     std::vector<double> scalar = case_positions(kRings, pairs, random);
     if (trial % 10 == 0) scalar[3 * 20 + 1] = std::numeric_limits<double>::quiet_NaN();
-    std::vector<double> blocked = scalar;
+    const std::vector<double> start = scalar;
     double scalar_worst = 0.0;
     for (const EdgeConstraint& e : pairs) {
       scalar_worst = std::max(scalar_worst, sweep_pair(scalar.data(), w.data(), e));
     }
-    const double blocked_worst = sweep_pair_blocks(blocked.data(), w.data(), pairs.data(),
-                                                   blocks.data(), static_cast<int>(blocks.size()));
-    ASSERT_TRUE(same_bits(scalar, blocked)) << "trial " << trial;
-    ASSERT_EQ(scalar_worst, blocked_worst) << "trial " << trial;
+    for (bool avx2 : {false, true}) {
+      std::vector<double> blocked = start;
+      const double blocked_worst =
+          sweep_pair_blocks(blocked.data(), w.data(), pairs.data(), blocks.data(),
+                            static_cast<int>(blocks.size()), avx2);
+      ASSERT_TRUE(same_bits(scalar, blocked)) << "trial " << trial << " avx2 " << avx2;
+      ASSERT_EQ(scalar_worst, blocked_worst) << "trial " << trial << " avx2 " << avx2;
+    }
   }
 }
 
@@ -170,7 +187,7 @@ TEST(PlausibleBlocks, AttachmentRunsGiveTheScalarSweepsBits) {
     std::vector<double> scalar(3 * kRings);
     for (double& v : scalar) v = coordinate(random);
     if (trial % 10 == 0) scalar[3 * 17 + 2] = std::numeric_limits<double>::quiet_NaN();
-    std::vector<double> blocked = scalar;
+    const std::vector<double> start = scalar;
     double scalar_worst = 0.0;
     for (const PinAttachment& a : list) {
       scalar_worst = std::max(scalar_worst, sweep_attachment(scalar.data(), a));
@@ -180,11 +197,14 @@ TEST(PlausibleBlocks, AttachmentRunsGiveTheScalarSweepsBits) {
     for (const AttachmentBlock& block : blocks) long_blocks[block.pin_run] += block.groups >= 2;
     std::vector<double> reaches;
     for (const PinAttachment& a : list) reaches.push_back(a.max_distance);
-    const double blocked_worst =
-        sweep_attachment_blocks(blocked.data(), list.data(), reaches.data(), blocks.data(),
-                                static_cast<int>(blocks.size()));
-    ASSERT_TRUE(same_bits(scalar, blocked)) << "trial " << trial;
-    ASSERT_EQ(scalar_worst, blocked_worst) << "trial " << trial;
+    for (bool avx2 : {false, true}) {
+      std::vector<double> blocked = start;
+      const double blocked_worst =
+          sweep_attachment_blocks(blocked.data(), list.data(), reaches.data(), blocks.data(),
+                                  static_cast<int>(blocks.size()), avx2);
+      ASSERT_TRUE(same_bits(scalar, blocked)) << "trial " << trial << " avx2 " << avx2;
+      ASSERT_EQ(scalar_worst, blocked_worst) << "trial " << trial << " avx2 " << avx2;
+    }
   }
   EXPECT_GT(long_blocks[0], 0);
   EXPECT_GT(long_blocks[1], 0);

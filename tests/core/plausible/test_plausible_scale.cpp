@@ -9,8 +9,8 @@
 #include "core/plausible/pin_paths.hpp"
 #include "core/plausible/plausible.hpp"
 #include "core/plausible/plausible_sweep.hpp"
-#include "scene_file/scene_file.hpp"
 #include "core/weave.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {
@@ -217,8 +217,8 @@ double coloured_sweep(const PlausibleModel& model, Positions& position) {
 
 TEST(PlausibleScale, BandedSweepGivesTheColouredSweepsBits) {
   // the banded sweep solves each pair on the positions the colour-by-colour sweep gives it: the
-  // same bits, on 1 and 3 threads (3: runs of bands meeting at two edges), with the pairs in
-  // vector blocks or one by one; a 4-in-1 sheet (attachments, diagonals) and a chain
+  // same bits, on 1 and 3 threads (3: runs of bands meeting at two edges), with the blocks in
+  // AVX2 or in portable lanes; a 4-in-1 sheet (attachments, diagonals) and a chain
   for (const Scene& scene : {hanging("4in1", 48, 48), hanging("chain", 1, 301)}) {
     const Weave weave = make_weave(scene.weave, scene.ring);
     for (const int threads : {1, 3}) {
@@ -246,10 +246,10 @@ TEST(PlausibleScale, BandedSweepGivesTheColouredSweepsBits) {
 }
 
 TEST(PlausibleScale, VectorLanesGiveTheScalarBitsOnEveryWeave) {
-  // the SIMD blocks and ring passes against one by one: a long chain (its links alternate in
-  // adjacent sets), a grid, and a 4-in-1 sheet falling onto a ball (colliders: their push, the
-  // friction after the velocity pass), each with a ring count
-  // that leaves a tail of fewer than four rings
+  // the lane kernels' AVX2 build against the portable one (set_vector_sweeps): a long chain (its
+  // links alternate in adjacent sets), a grid, and a 4-in-1 sheet falling onto a ball (colliders:
+  // their push, the friction after the velocity pass), each with a ring count that leaves a tail
+  // of fewer than four rings
   const Scene chain = hanging("chain", 1, 2047);
   const Scene grid = scene_from_json({{"name", "grid"},
                                       {"weave",

@@ -10,15 +10,15 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/plausible/constraints.hpp"
-#include "scene_file/scene_file.hpp"
 #include "core/geometry.hpp"
 #include "core/metrics.hpp"
+#include "core/plausible/constraints.hpp"
 #include "core/plausible/link_distance.hpp"
 #include "core/plausible/orientation.hpp"
 #include "core/plausible/pin_paths.hpp"
 #include "core/plausible/plausible.hpp"
 #include "core/plausible/weave_limits.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace {
