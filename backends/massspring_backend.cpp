@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "backends/backend.hpp"
-#include "core/massspring/massspring.hpp"
+#include "core/massspring/massspring_sim.hpp"
 
 namespace chainmail {
 namespace {
@@ -97,46 +97,21 @@ class MassSpringBackend final : public Backend {
 
   void reset(const Scene& scene, const Weave& weave, const Knobs& knobs) override {
     const MassSpringKnobs settings = massspring_knobs().settings(knobs);
-    weave_ = weave;
-    model_ = massspring::make_model(scene, weave_, settings_from(scene, weave_, settings));
-    state_ = massspring::make_state(model_, weave_.rest_position);
-    // the scene's initial velocity, as Verlet holds it: the previous position one step back (of
-    // the dt knob, the step the harness takes)
-    const double dt = knob_value(knobs, "dt");
-    substeps_ = settings.substeps > 0 ? settings.substeps : massspring::stable_substeps(model_, dt);
-    const double h = dt / substeps_;
-    for (int m = 0; m < state_.size(); ++m) {
-      if (model_.inv_mass[m] > 0.0) state_.previous.col(m) -= h * scene.initial_velocity;
-    }
-    state_.last_dt = h;
-    flip_ = massspring::normal_signs(weave_);
-    profile_.clear();
+    sim_.reset(scene, weave, settings_from(scene, weave, settings), knob_value(knobs, "dt"),
+               settings.substeps);
   }
 
   StepStatus step(double dt) override {
-    const double h = dt / substeps_;
-    for (int k = 0; k < substeps_; ++k) massspring::step(model_, state_, h, profile_);
+    sim_.step(dt);
     return StepStatus::ok;
   }
 
-  void frame(RingFrame& out) const override {
-    const int n = state_.size();
-    out.resize(n);
-    out.t = state_.t;
-    out.position = state_.position;
-    for (int m = 0; m < n; ++m) out.velocity.col(m) = state_.velocity(m);
-    massspring::surface_orientations(state_.position, weave_, flip_, out.orientation);
-  }
+  void frame(RingFrame& out) const override { sim_.frame(out); }
 
-  const StageProfile& profile() const override { return profile_; }
+  const StageProfile& profile() const override { return sim_.profile(); }
 
  private:
-  Weave weave_;
-  massspring::Model model_;
-  massspring::State state_;
-  std::vector<std::int8_t> flip_;  // (n) normal sign that matches the rest layout
-  int substeps_ = 1;
-  StageProfile profile_;
+  MassSpringSim sim_;
 };
 
 }  // namespace

@@ -66,7 +66,8 @@ class TorusXpbdBackend final : public Backend {
   StepStatus step(double dt) override {
     // a team waits for a core at each of a substep's barriers: no more threads than are free
     sim_.set_threads(threads_for_step(threads_));
-    return sim_.step(dt) ? StepStatus::ok : StepStatus::non_finite;
+    sim_.step(dt);
+    return sim_.finite() ? StepStatus::ok : StepStatus::non_finite;
   }
   void frame(RingFrame& out) const override { sim_.frame(out); }
   const StageProfile& profile() const override { return sim_.profile(); }

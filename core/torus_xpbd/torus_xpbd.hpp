@@ -83,7 +83,7 @@ struct TorusXpbdModel {
   bool self_contact = true;
   TorusXpbdSettings settings;
   // the halves: the half of each ring (0 or 1), and the rings of each
-  std::vector<char> part;                                     // (n)
+  std::vector<char> part;                                    // (n)
   std::array<std::vector<int>, kTorusXpbdParts> part_rings;  // ring indices, ascending
   // m, how much nearer than the nearest of a scan's samples the circles may come between them:
   // the distance changes by at most the radius per radian, and half a spacing is pi / kSamples
@@ -177,8 +177,9 @@ class TorusXpbdSim {
   void reset(const Scene& scene, const Weave& weave, const TorusXpbdSettings& settings);
   // threads the step may use (the halves run side by side on two; any count, same result)
   void set_threads(int threads) { threads_ = threads < 1 ? 1 : threads; }
-  // one step of dt in `substeps` substeps; false once the state is not finite
-  bool step(double dt);
+  // one step of dt in `substeps` substeps (the step every model has: void step(double dt))
+  void step(double dt);
+  bool finite() const;  // whether every position, velocity and orientation is finite
   void frame(RingFrame& out) const;
 
   const TorusXpbdModel& model() const { return model_; }
@@ -246,7 +247,6 @@ class TorusXpbdSim {
   void integrate(double h, int part);
   void update_velocities(double h, int part);
   void update_sleep(double dt);
-  bool finite() const;
   // contacts (torus_xpbd_contacts.cpp)
   // the links of one part once (over-relaxed), or those still deep once more; `retry` keeps those
   // to be solved again

@@ -58,19 +58,26 @@ void team_barrier(int team) {
 
 const char* stage_name(TorusXpbdStage stage) {
   switch (stage) {
-    case TorusXpbdStage::collect_pairs: return "collect_pairs";
-    case TorusXpbdStage::integrate: return "integrate";
-    case TorusXpbdStage::colliders: return "colliders";
-    case TorusXpbdStage::contacts: return "contacts";
-    case TorusXpbdStage::self_contact: return "self_contact";
-    case TorusXpbdStage::velocities: return "velocities";
-    case TorusXpbdStage::velocity_pass: return "velocity_pass";
+    case TorusXpbdStage::collect_pairs:
+      return "collect_pairs";
+    case TorusXpbdStage::integrate:
+      return "integrate";
+    case TorusXpbdStage::colliders:
+      return "colliders";
+    case TorusXpbdStage::contacts:
+      return "contacts";
+    case TorusXpbdStage::self_contact:
+      return "self_contact";
+    case TorusXpbdStage::velocities:
+      return "velocities";
+    case TorusXpbdStage::velocity_pass:
+      return "velocity_pass";
   }
   return "?";
 }
 
 // collect_pairs, then the substeps (each a walk over kSubstepStages), then sleep
-bool TorusXpbdSim::step(double dt) {
+void TorusXpbdSim::step(double dt) {
   for (std::size_t part = 0; part < velocity_solves_.size(); ++part) velocity_solves_[part] = 0;
   collect_pairs(dt);
   // enough substeps that two rings close in by at most a wire radius in one: wires cannot pass
@@ -80,9 +87,10 @@ bool TorusXpbdSim::step(double dt) {
       std::max(model_.settings.substeps,
                static_cast<int>(std::min(std::ceil(travel), double{kMaxSubsteps})));
   const double h = dt / substeps;
-  const int team = parallel_loops_available() && static_cast<int>(model_.part.size()) >= kThreadedRings
-                       ? std::min(threads_, kParts)
-                       : 1;
+  const int team =
+      parallel_loops_available() && static_cast<int>(model_.part.size()) >= kThreadedRings
+          ? std::min(threads_, kParts)
+          : 1;
   // substeps are stamped from 1 (a seed's `pushed` starts at 0)
   const std::uint64_t first_stamp = substep_ + 1;
   substep_ += static_cast<std::uint64_t>(substeps);
@@ -90,7 +98,6 @@ bool TorusXpbdSim::step(double dt) {
   run_substeps(h, substeps, team > 1 ? team_size() : 1, first_stamp);  // OpenMP may give fewer
   if (model_.settings.sleeping) update_sleep(dt);
   state_.t += dt;
-  return finite();
 }
 
 // one substep as one thread of the team sees it. Every thread meets every barrier: the loops' trip
@@ -125,14 +132,12 @@ struct TorusXpbdSim::Substep {
 // colliders' static friction once more, after the rings' pull; velocities; the velocity passes
 const TorusXpbdSim::SubstepStage TorusXpbdSim::kSubstepStages[] = {
     {TorusXpbdStage::integrate, &TorusXpbdSim::start_half, nullptr, nullptr},
-    {TorusXpbdStage::colliders, &TorusXpbdSim::collide_half, nullptr,
-     &TorusXpbdSim::has_colliders},
+    {TorusXpbdStage::colliders, &TorusXpbdSim::collide_half, nullptr, &TorusXpbdSim::has_colliders},
     {TorusXpbdStage::contacts, &TorusXpbdSim::first_link_pass, &TorusXpbdSim::seam_link_passes,
      nullptr},
-    {TorusXpbdStage::contacts, &TorusXpbdSim::last_link_passes, nullptr,
-     &TorusXpbdSim::links_left},
-    {TorusXpbdStage::self_contact, &TorusXpbdSim::other_pairs_half,
-     &TorusXpbdSim::other_pairs_seam, &TorusXpbdSim::has_other_pairs},
+    {TorusXpbdStage::contacts, &TorusXpbdSim::last_link_passes, nullptr, &TorusXpbdSim::links_left},
+    {TorusXpbdStage::self_contact, &TorusXpbdSim::other_pairs_half, &TorusXpbdSim::other_pairs_seam,
+     &TorusXpbdSim::has_other_pairs},
     {TorusXpbdStage::colliders, &TorusXpbdSim::friction_half, nullptr,
      &TorusXpbdSim::has_colliders},
     {TorusXpbdStage::velocities, &TorusXpbdSim::velocities_half, nullptr, nullptr},
@@ -191,11 +196,15 @@ bool TorusXpbdSim::runs(const SubstepStage& row, const Substep& sub) const {
   return !row.needed || (this->*row.needed)(sub);
 }
 
-bool TorusXpbdSim::has_colliders(const Substep&) const { return !collider_candidates_.empty(); }
+bool TorusXpbdSim::has_colliders(const Substep&) const {
+  return !collider_candidates_.empty();
+}
 bool TorusXpbdSim::links_left(const Substep& sub) const {
   return sub.link_passes < kRetryPasses && retrying_;
 }
-bool TorusXpbdSim::has_other_pairs(const Substep&) const { return !other_pairs_.empty(); }
+bool TorusXpbdSim::has_other_pairs(const Substep&) const {
+  return !other_pairs_.empty();
+}
 
 void TorusXpbdSim::start_half(Substep& sub, int part) {
   if (part == 0) active_[kSeam].clear();  // the lead's: the seam's solve comes after
@@ -204,7 +213,9 @@ void TorusXpbdSim::start_half(Substep& sub, int part) {
   integrate(sub.h, part);
 }
 
-void TorusXpbdSim::collide_half(Substep& sub, int part) { solve_colliders(sub.h, sub.scan, part); }
+void TorusXpbdSim::collide_half(Substep& sub, int part) {
+  solve_colliders(sub.h, sub.scan, part);
+}
 
 void TorusXpbdSim::first_link_pass(Substep& sub, int part) {
   solve_links(sub.h, sub.scan, part, true, sub.stamp);
@@ -246,9 +257,13 @@ void TorusXpbdSim::other_pairs_seam(Substep& sub) {
   sub.seam([&](int part) { solve_other_pairs(sub.h, sub.scan, part, sub.stamp); });
 }
 
-void TorusXpbdSim::friction_half(Substep& sub, int part) { hold_collider_friction(sub.h, part); }
+void TorusXpbdSim::friction_half(Substep& sub, int part) {
+  hold_collider_friction(sub.h, part);
+}
 
-void TorusXpbdSim::velocities_half(Substep& sub, int part) { update_velocities(sub.h, part); }
+void TorusXpbdSim::velocities_half(Substep& sub, int part) {
+  update_velocities(sub.h, part);
+}
 
 // what the velocity pass needs from the poses (which it does not change), and the first pass over
 // the half's contacts (they join only its own rings, which it has just updated)
