@@ -140,20 +140,22 @@ TEST_F(Bullet, ChainSagMatchesCatenary) {
 }
 
 TEST_F(Bullet, CurtainHangsWithoutBrokenOrFalseLinks) {
-  // the backend's default knobs
+  // the backend's default knobs. Released from the layout, the curtain falls taut within the
+  // first quarter second (its longest link then, 0.996 ID, is the run's longest) and hangs at
+  // about 0.995 ID after; a second, sampled every quarter, covers the fall and the hang
   auto run = sim({{"name", "curtain"},
                  {"weave", {{"type", "4in1"}, {"rows", 10}, {"cols", 10}, {"plane", "xy"}}},
                  {"pins", {{{"edge", "top"}}}},
-                 {"duration", 2.0}});
+                 {"duration", 1.0}});
   for (int k = 0; k < 4; ++k) {
-    run.advance(0.5);
+    run.advance(0.25);
     const Metrics m = measure(run.frame, run.weave, run.scene);
     EXPECT_EQ(m.broken_links, 0) << "t = " << run.frame.t;
     EXPECT_EQ(m.false_links, 0) << "t = " << run.frame.t;
     EXPECT_EQ(m.non_finite, 0);
     EXPECT_LT(m.max_stretch, 1.02);
   }
-  EXPECT_NEAR(run.frame.t, 2.0, 1e-9);
+  EXPECT_NEAR(run.frame.t, 1.0, 1e-9);
 }
 
 TEST_F(Bullet, SheetRestsOnPlaneWithoutJitter) {
