@@ -16,6 +16,7 @@
 #include "bench/harness/commands/commands.hpp"
 #include "bench/harness/common/interrupt.hpp"
 #include "bench/harness/common/usage_error.hpp"
+#include "bench/harness/output/number_format.hpp"
 #include "bench/harness/output/output.hpp"
 #include "bench/harness/output/output_folder.hpp"
 #include "bench/harness/run/budget.hpp"
