@@ -36,7 +36,6 @@ PROJECT_INCLUDE = re.compile(r'^[ \t]*#[ \t]*include[ \t]*"([^"]+)"', re.M)
 CYCLE_DIRS = SOURCE_DIRS + ["python", "examples"]
 # cycles present when the check was added, each as its sorted files (paths without extension)
 KNOWN_CYCLES = [
-    ["bench/harness/suites/sweep", "bench/harness/suites/sweep_jobs"],
     ["scene_file/scene_file", "scene_file/scene_file_text"],
 ]
 QUOTED_INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"', re.MULTILINE)
