@@ -2,7 +2,7 @@
 #   bin/chainmail
 #   share/chainmail/{scenes/, shaders/, report/, plot_sweep.py, scene.schema.json}  (read at run time,
 #                                                        found from the binary's own path)
-#   include/chainmail/{core/, backends/, scene_file/scene_file.hpp, testing/}
+#   include/chainmail/{core/, backends/, scene_file/{scene_file,strict_json}.hpp, testing/}
 #   lib/libchainmail_*.a and lib/cmake/chainmail/ (find_package(chainmail))
 #   share/doc/chainmail/ (README, LICENSE, CITATION.cff, docs/)
 include(CMakePackageConfigHelpers)
@@ -35,7 +35,7 @@ install(TARGETS ${chainmail_libraries} EXPORT chainmailTargets
 set(chainmail_include ${CMAKE_INSTALL_INCLUDEDIR}/chainmail)
 install(DIRECTORY core/ DESTINATION ${chainmail_include}/core FILES_MATCHING PATTERN "*.hpp")
 install(FILES backends/backend.hpp backends/knobs.hpp backends/capsule_torus.hpp DESTINATION ${chainmail_include}/backends)
-install(FILES scene_file/scene_file.hpp DESTINATION ${chainmail_include}/scene_file)
+install(FILES scene_file/scene_file.hpp scene_file/strict_json.hpp DESTINATION ${chainmail_include}/scene_file)
 install(FILES tests/backends/backend_contract.hpp tests/backends/backend_sim.hpp
               tests/backends/collider_cases.hpp
         DESTINATION ${chainmail_include}/testing)

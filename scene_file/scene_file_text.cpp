@@ -17,7 +17,8 @@
 #include <utility>
 #include <vector>
 
-#include "scene_file/scene_file.hpp"
+#include "core/scene.hpp"
+#include "scene_file/strict_json.hpp"
 
 namespace chainmail {
 

@@ -1,5 +1,6 @@
 // Scene text helpers of the scene-file library: safe reading of a scene file and the pieces of
-// its one-line messages, shared by the reader and the strict parser (scene_file.hpp).
+// its one-line messages, shared by the reader (scene_file.hpp) and the strict parser
+// (strict_json.hpp).
 #pragma once
 
 #include <cstddef>

@@ -10,8 +10,7 @@
   one that only backends/ includes belongs in backends/;
 - no include cycle between files, a header and its source counting as one file (a.cpp including
   b.hpp and b.cpp including a.hpp is a cycle: neither can be read, built or moved without the
-  other), except the cycles listed in KNOWN_CYCLES, which the restructure of core/ and
-  bench/harness/ removes (a listed cycle that is gone must leave the list).
+  other).
 
 Functions are found by brace matching after comments, strings and preprocessor lines are removed:
 a block opened at namespace or class scope whose header holds a parameter list is a function.
@@ -34,12 +33,6 @@ OVER_LIMIT = set()
 JSON_INCLUDE = re.compile(r'#\s*include\s*[<"]nlohmann/')
 PROJECT_INCLUDE = re.compile(r'^[ \t]*#[ \t]*include[ \t]*"([^"]+)"', re.M)
 CYCLE_DIRS = SOURCE_DIRS + ["python", "examples"]
-# cycles present when the check was added, each as its sorted files (paths without extension)
-KNOWN_CYCLES = [
-    ["bench/harness/output/output", "bench/harness/output/table_cells"],
-    ["bench/harness/suites/sweep", "bench/harness/suites/sweep_jobs"],
-    ["scene_file/scene_file", "scene_file/scene_file_text"],
-]
 QUOTED_INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"', re.MULTILINE)
 # the folders whose files place a core/ file: its models' and the adapters' (bench/, tests/ and
 # python/ use the models without being one)
@@ -194,11 +187,8 @@ def include_cycles(graph):
 
 
 def cycle_problems(root_sources):
-    cycles = include_cycles(include_graph(root_sources))
-    problems = [f"include cycle: {' <-> '.join(c)}" for c in cycles if c not in KNOWN_CYCLES]
-    problems += [f"include cycle {' <-> '.join(c)} is gone: remove it from KNOWN_CYCLES"
-                 for c in KNOWN_CYCLES if c not in cycles]
-    return problems
+    return [f"include cycle: {' <-> '.join(c)}"
+            for c in include_cycles(include_graph(root_sources))]
 
 
 def python_functions(text):

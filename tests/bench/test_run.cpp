@@ -12,6 +12,7 @@
 #include "bench/harness/common/usage_error.hpp"
 #include "bench/harness/common/version.hpp"
 #include "bench/harness/output/frame_stream.hpp"
+#include "bench/harness/output/number_format.hpp"
 #include "bench/harness/output/output.hpp"
 #include "bench/harness/run/run.hpp"
 #include "bench/harness/suites/sweep.hpp"

@@ -11,6 +11,7 @@
 #include "core/weave.hpp"
 #include "scene_documents.hpp"
 #include "scene_file/scene_file.hpp"
+#include "scene_file/strict_json.hpp"
 
 namespace chainmail {
 namespace {

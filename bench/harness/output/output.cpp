@@ -14,30 +14,13 @@
 #include "backends/backend.hpp"
 #include "bench/harness/common/version.hpp"
 #include "bench/harness/output/frame_stream.hpp"
+#include "bench/harness/output/number_format.hpp"
 #include "bench/harness/output/output_error.hpp"
 #include "bench/harness/output/table_cells.hpp"
 #include "scene_file/scene_file.hpp"
 
 namespace chainmail {
 namespace fs = std::filesystem;
-
-std::string csv_number(double value) {
-  if (!std::isfinite(value)) return "";
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.9g", value);
-  return buffer;
-}
-
-std::string table_number(double value, int significant) {
-  if (!std::isfinite(value)) return "-";
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.*g", significant, value);
-  return buffer;
-}
-
-nlohmann::json json_number(double value) {
-  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
-}
 
 void write_file_atomic(const std::string& path, const std::string& text) {
   if (fs::path(path).has_parent_path()) fs::create_directories(fs::path(path).parent_path());

@@ -30,13 +30,6 @@ std::string frame_csv(const RingFrame& frame, const Weave& weave);
 // read back from its files are the same numbers
 void round_as_csv(RingFrame& frame);
 
-// the number formatting every CSV uses (empty for NaN and inf: an absent or failed metric)
-std::string csv_number(double value);
-// a number for a Markdown table: `significant` digits, "-" for NaN and inf
-std::string table_number(double value, int significant);
-// a number for JSON: null when not finite
-nlohmann::json json_number(double value);
-
 struct OutputOptions {
   // draws images into <folder>/images from the runs' frame streams; empty = no rendering
   std::function<void(const SceneRun&, const std::string& images_folder)> render;

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "bench/harness/output/output.hpp"
+#include "bench/harness/output/number_format.hpp"
 
 namespace chainmail {
 

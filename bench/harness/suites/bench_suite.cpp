@@ -12,6 +12,7 @@
 #include "bench/harness/commands/commands.hpp"
 #include "bench/harness/common/data_dir.hpp"
 #include "bench/harness/common/interrupt.hpp"
+#include "bench/harness/output/number_format.hpp"
 #include "bench/harness/output/output.hpp"
 #include "bench/harness/output/output_folder.hpp"
 #include "bench/harness/output/render_output.hpp"

@@ -7,6 +7,7 @@
 
 #include "backends/backend.hpp"
 #include "bench/harness/common/interrupt.hpp"
+#include "bench/harness/output/number_format.hpp"
 #include "bench/harness/output/output.hpp"
 #include "bench/harness/run/run.hpp"
 #include "bench/harness/run/verdict.hpp"

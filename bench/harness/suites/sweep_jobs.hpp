@@ -6,7 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "bench/harness/suites/sweep.hpp"
+#include "bench/harness/suites/sweep_command.hpp"
+#include "bench/harness/suites/sweep_grid.hpp"
 #include "core/scene.hpp"
 
 namespace chainmail {
