@@ -15,6 +15,7 @@
 #include "bench/harness/suites/scaling.hpp"
 #include "bench/harness/suites/sweep.hpp"
 #include "scene_file/scene_file.hpp"
+#include "test_temp.hpp"
 
 namespace chainmail {
 namespace {
@@ -39,7 +40,7 @@ TEST(Scaling, TableHasEverySizeOnEachThreadCountWithOneHashPerSize) {
   // the quick plan through the real runs: a row per size and thread count for plausible, the
   // same final hash on 1 and 2 threads, costs that are positive, and the speed-up column filled
   // for the 2-thread rows only
-  const fs::path out = fs::temp_directory_path() / "chainmail_test_scaling";
+  const fs::path out = chainmail::test_temp_root() / "chainmail_test_scaling";
   fs::remove_all(out);
   fs::create_directories(out);
   const std::string table =
@@ -73,7 +74,7 @@ TEST(Scaling, BackendsThatStepOnSeveralThreadsGetARowPerThreadCount) {
   // torus_xpbd steps on the threads it is given, massspring on one
   ASSERT_TRUE(find_backend("torus_xpbd")->multithreaded);
   ASSERT_FALSE(find_backend("massspring")->multithreaded);
-  const fs::path out = fs::temp_directory_path() / "chainmail_test_scaling_threads";
+  const fs::path out = chainmail::test_temp_root() / "chainmail_test_scaling_threads";
   fs::remove_all(out);
   fs::create_directories(out);
   ScalingPlan plan = scaling_plan(true, 4);
@@ -91,7 +92,7 @@ TEST(Scaling, RepeatsGoRoundTheThreadCountsSoASlowSpellFallsOnAll) {
   // median of its own two
   ScalingPlan plan = scaling_plan(true, 4);
   plan.plausible_repeats = 2;
-  const fs::path out = fs::temp_directory_path() / "chainmail_test_scaling_rounds";
+  const fs::path out = chainmail::test_temp_root() / "chainmail_test_scaling_rounds";
   fs::remove_all(out);
   fs::create_directories(out);
   testing::internal::CaptureStderr();
@@ -124,7 +125,7 @@ TEST(Scaling, RunsGoRoundTheBackendsAndCostsAreRelativeToOdesOnOneThread) {
   if (!backend_built("ode")) GTEST_SKIP() << "ode is not built into this binary";
   ScalingPlan plan = scaling_plan(true, 4);
   plan.repeats = 2;
-  const fs::path out = fs::temp_directory_path() / "chainmail_test_scaling_vs_ode";
+  const fs::path out = chainmail::test_temp_root() / "chainmail_test_scaling_vs_ode";
   fs::remove_all(out);
   fs::create_directories(out);
   testing::internal::CaptureStderr();
@@ -191,7 +192,7 @@ TEST(BenchPlan, EveryStepLoadsAndQuickModeIsSmallerAndShorter) {
 }
 
 TEST(Bench, QuickModeWritesEveryResultsFile) {
-  const fs::path out = fs::temp_directory_path() / "chainmail_test_bench";
+  const fs::path out = chainmail::test_temp_root() / "chainmail_test_bench";
   fs::remove_all(out);
   BenchCommand bench;
   bench.out_dir = out.string();

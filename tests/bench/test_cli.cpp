@@ -12,6 +12,7 @@
 #include "backends/backend.hpp"
 #include "bench/harness/common/version.hpp"
 #include "scene_file/scene_file.hpp"
+#include "test_temp.hpp"
 
 namespace chainmail {
 namespace {
@@ -57,7 +58,7 @@ int lines(const std::string& text) {
 class Cli : public testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
+    dir_ = chainmail::test_temp_root() /
            ("chainmail_test_cli_" +
             std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);

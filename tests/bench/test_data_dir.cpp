@@ -7,6 +7,7 @@
 
 #include "bench/harness/common/data_dir.hpp"
 #include "bench/harness/common/usage_error.hpp"
+#include "test_temp.hpp"
 
 namespace chainmail {
 namespace {
@@ -17,7 +18,7 @@ class DataDirTest : public testing::Test {
  protected:
   void SetUp() override {
     // a folder of each test's own: ctest runs the tests of this fixture in parallel
-    root_ = fs::temp_directory_path() /
+    root_ = chainmail::test_temp_root() /
             ("chainmail_test_data_dir_" +
              std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(root_);

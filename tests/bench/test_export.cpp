@@ -15,6 +15,7 @@
 #include "bench/harness/output/export.hpp"
 #include "core/weave.hpp"
 #include "glb_reader.hpp"
+#include "test_temp.hpp"
 
 namespace chainmail {
 namespace {
@@ -58,7 +59,7 @@ struct Moving {
 };
 
 struct TempDir {
-  fs::path path = fs::temp_directory_path() /
+  fs::path path = chainmail::test_temp_root() /
                   ("chainmail_test_export_" +
                    std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
   TempDir() {

@@ -13,6 +13,7 @@
 
 #include "bench/harness/output/output_folder.hpp"
 #include "core/scene.hpp"
+#include "test_temp.hpp"
 
 namespace chainmail {
 namespace {
@@ -22,7 +23,7 @@ namespace fs = std::filesystem;
 class OutputFolderTest : public testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
+    dir_ = chainmail::test_temp_root() /
            ("chainmail_test_folder_" +
             std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);

@@ -35,6 +35,7 @@
 #include "core/scene.hpp"
 #include "glb_reader.hpp"
 #include "scene_file/scene_file.hpp"
+#include "test_temp.hpp"
 
 namespace chainmail {
 namespace {
@@ -81,7 +82,7 @@ Png load_png(const fs::path& path) {
 class RenderCli : public testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
+    dir_ = chainmail::test_temp_root() /
            ("chainmail_test_render_cli_" +
             std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);

@@ -18,6 +18,7 @@
 #include "bench/harness/suites/sweep.hpp"
 #include "core/parallel.hpp"
 #include "scene_file/scene_file.hpp"
+#include "test_temp.hpp"
 
 namespace chainmail {
 namespace {
@@ -44,7 +45,7 @@ RunOptions quiet() {
 }
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("chainmail_test_" + name);
+  const fs::path dir = chainmail::test_temp_root() / ("chainmail_test_" + name);
   fs::remove_all(dir);
   return dir;
 }
@@ -468,7 +469,7 @@ TEST(Run, OverstretchedIsFlaggedApartFromStability) {
 
 TEST(Run, BadInputExitsTwoAndWritesNothing) {
   const fs::path dir = fresh_dir("bad_input");
-  const fs::path scene_path = fs::temp_directory_path() / "chainmail_bad_scene.json";
+  const fs::path scene_path = chainmail::test_temp_root() / "chainmail_bad_scene.json";
   {
     std::ofstream out(scene_path);
     out << R"({"name": "bad", "weave": {"type": "4in1", "rows": 2, "cols": 2}, "duration": -1})";

@@ -12,6 +12,7 @@
 #include "scene_documents.hpp"
 #include "scene_file/scene_file.hpp"
 #include "scene_file/strict_json.hpp"
+#include "test_temp.hpp"
 
 namespace chainmail {
 namespace {
@@ -124,7 +125,7 @@ TEST(SceneLoad, PinByRingIndexIsRowMajor) {
 }
 
 TEST(SceneLoad, JsonSyntaxErrorHasLineAndColumn) {
-  const auto path = std::filesystem::temp_directory_path() / "chainmail_bad_syntax.json";
+  const auto path = chainmail::test_temp_root() / "chainmail_bad_syntax.json";
   {
     std::ofstream out(path);
     out << "{\n  \"name\": \"x\",\n  \"duration\": 1.0,,\n}\n";
@@ -187,8 +188,7 @@ class SceneFile {
   }
   const std::string& path() const { return path_; }
   static std::filesystem::path dir() {
-    return std::filesystem::temp_directory_path() /
-           ("chainmail_test_scene_" + std::to_string(::getpid()));
+    return chainmail::test_temp_root() / ("chainmail_test_scene_" + std::to_string(::getpid()));
   }
 
  private:

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/harness/commands/commands.hpp"
+#include "test_temp.hpp"
 
 namespace chainmail {
 namespace {
@@ -16,7 +17,7 @@ using json = nlohmann::json;
 
 // the stages each backend reports in summary.json
 json stages_in_summary(const json& doc, const std::string& name) {
-  const fs::path out = fs::temp_directory_path() / ("chainmail_test_stages_" + name);
+  const fs::path out = chainmail::test_temp_root() / ("chainmail_test_stages_" + name);
   fs::remove_all(out);
   fs::create_directories(out);
   const fs::path scene = out / "scene.json";

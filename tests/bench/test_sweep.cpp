@@ -11,6 +11,7 @@
 #include "bench/harness/suites/process.hpp"
 #include "bench/harness/suites/sweep.hpp"
 #include "scene_file/scene_file.hpp"
+#include "test_temp.hpp"
 
 namespace chainmail {
 namespace {
@@ -148,7 +149,7 @@ TEST(Sweep, RefusesToVaryTheReferenceBackendsOwnKnobs) {
 }
 
 TEST(Sweep, OneRowPerPointAndThePlot) {
-  const fs::path out = fs::temp_directory_path() / "chainmail_test_sweep";
+  const fs::path out = chainmail::test_temp_root() / "chainmail_test_sweep";
   fs::remove_all(out);
   SweepCommand sweep;
   sweep.scene_file = CHAINMAIL_SOURCE_DIR "/bench/scenes/curtain.json";

@@ -13,6 +13,7 @@
 #include "bench/harness/output/output_folder.hpp"
 #include "bench/harness/suites/process.hpp"
 #include "bench/harness/suites/sweep.hpp"
+#include "test_temp.hpp"
 
 namespace chainmail {
 namespace {
@@ -52,7 +53,7 @@ class SweepJobs : public testing::Test {
  protected:
   void SetUp() override {
     // a folder per test: ctest runs them side by side
-    root = fs::temp_directory_path() /
+    root = chainmail::test_temp_root() /
            ("chainmail_test_sweep_jobs_" +
             std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(root);

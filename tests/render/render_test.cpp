@@ -25,6 +25,7 @@
 #include "core/weave.hpp"
 #include "render/renderer.hpp"
 #include "test_scenes.hpp"
+#include "test_temp.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
 #include <sanitizer/lsan_interface.h>
@@ -105,7 +106,7 @@ double fabric_coverage(Renderer& renderer, const Scene& scene, const Weave& weav
 struct TempDir {
   fs::path path;
   TempDir() {
-    path = fs::temp_directory_path() /
+    path = chainmail::test_temp_root() /
            ("chainmail_render_test_" + std::to_string(::getpid()) + "_" +
             ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(path);

@@ -11,6 +11,7 @@
 
 #include "render/renderer.hpp"
 #include "render/shaders.hpp"
+#include "test_temp.hpp"
 
 namespace chainmail::render {
 namespace {
@@ -21,7 +22,7 @@ namespace fs = std::filesystem;
 struct TempDir {
   fs::path path;
   TempDir() {
-    path = fs::temp_directory_path() /
+    path = chainmail::test_temp_root() /
            ("chainmail_shaders_test_" + std::to_string(::getpid()) + "_" +
             ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(path);
