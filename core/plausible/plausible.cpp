@@ -94,7 +94,7 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   // neighbours as close as the weave's geometry lets them come (the wire thickness without it)
   const double closest = build_compression_limits();
   model_.grid = grid_keys(weave, !model_.diagonals.empty());
-  // the weave's links as edge constraints, grouped by colour (core/colouring.hpp)
+  // the weave's links as edge constraints, grouped by colour (core/plausible/colouring.hpp)
   for (const RingPair& link : weave.links) {
     model_.edges.push_back({link.a, link.b, closest, max_length});
   }
