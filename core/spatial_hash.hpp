@@ -126,8 +126,8 @@ class SpatialHash {
                   std::int64_t hi[3]);
   // the layout (dense or hashed) over the box, and every finite point's key and bucket; returns
   // the number of buckets
-  std::int64_t key_points(int n, const std::int64_t lo[3], const std::int64_t hi[3],
-                          int table_size, int team);
+  std::int64_t key_points(int n, const std::int64_t lo[3], const std::int64_t hi[3], int table_size,
+                          int team);
   // the finite points sorted by bucket into sorted_, stably, with their keys and positions
   void sort_by_bucket(const Positions& points, std::int64_t table, int threads);
 

@@ -20,7 +20,9 @@ extern "C" const char* __lsan_default_suppressions() {
          "so\n";
 }
 // no "Suppressions used" table on stderr: a refused input still gets its one line
-extern "C" const char* __lsan_default_options() { return "print_suppressions=0"; }
+extern "C" const char* __lsan_default_options() {
+  return "print_suppressions=0";
+}
 #endif
 
 namespace chainmail::render {

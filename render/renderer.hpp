@@ -14,7 +14,7 @@
 #include "core/frame.hpp"
 #include "core/scene.hpp"
 #include "core/weave.hpp"
-#include "render/image.hpp"     // write_png
+#include "render/image.hpp"  // write_png
 #include "render/scene_view.hpp"
 #include "render/settings.hpp"  // material_names, cloth_shader_names
 #include "render/types.hpp"

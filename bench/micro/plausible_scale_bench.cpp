@@ -2,8 +2,8 @@
 // substeps of one sweep under the stretch control) on 1 and 2 threads. The sheet first falls
 // for 0.1 s from the layout, untimed, so the timed steps see links taut and rings moving; each
 // iteration then times 10 steps, with the lane kernels in AVX2 where the machine has it
-// (vector:1, the default) or in the portable lanes (vector:0). Counters: ms per step in all and per stage, and the state hash (the
-// same on any thread count, either way).
+// (vector:1, the default) or in the portable lanes (vector:0). Counters: ms per step in all and per
+// stage, and the state hash (the same on any thread count, either way).
 #include <string>
 
 #include <benchmark/benchmark.h>

@@ -18,8 +18,8 @@
 #include "backends/capsule_torus.hpp"
 #include "bench/harness/run/run.hpp"
 #include "bench/harness/suites/bench_suite.hpp"
-#include "scene_file/scene_file.hpp"
 #include "core/metrics.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace {
 

@@ -441,10 +441,14 @@ int self_collide(const Model& model, State& state) {
 
 bool needs(const Model& model, Stage stage) {
   switch (stage) {
-    case Stage::constrain: return model.settings.correction_passes > 0 && !model.corrected.empty();
-    case Stage::colliders: return !model.colliders.empty();
-    case Stage::self_contact: return model.settings.self_collision;
-    default: return true;
+    case Stage::constrain:
+      return model.settings.correction_passes > 0 && !model.corrected.empty();
+    case Stage::colliders:
+      return !model.colliders.empty();
+    case Stage::self_contact:
+      return model.settings.self_collision;
+    default:
+      return true;
   }
 }
 
@@ -452,11 +456,21 @@ void run_stage(Stage stage, const Model& model, State& state, double dt, StagePr
   if (!needs(model, stage)) return;
   auto scope = profile.scope(stage_name(stage));
   switch (stage) {
-    case Stage::forces: accumulate_forces(model, state.position, state.force); break;
-    case Stage::integrate: verlet_integrate(model, dt, state); break;
-    case Stage::constrain: constrain(model, state); break;
-    case Stage::colliders: collide(model, state); break;
-    case Stage::self_contact: self_collide(model, state); break;
+    case Stage::forces:
+      accumulate_forces(model, state.position, state.force);
+      break;
+    case Stage::integrate:
+      verlet_integrate(model, dt, state);
+      break;
+    case Stage::constrain:
+      constrain(model, state);
+      break;
+    case Stage::colliders:
+      collide(model, state);
+      break;
+    case Stage::self_contact:
+      self_collide(model, state);
+      break;
   }
 }
 

@@ -54,9 +54,7 @@ double follow_seed(PairSeed& seed, const CircleFrame& fa, const CircleFrame& fb,
                    std::uint64_t stamp, double c, ClosestPoints& p) {
   // a retry in the substep that solved the seed keeps its angle: the pair moved by one
   // correction since, and the distance there is an upper bound (never over-corrects)
-  const int newton_steps = seed.pushed == stamp ? 0
-                           : seed.recent        ? kSubstepNewton
-                                                : kResumeNewton;
+  const int newton_steps = seed.pushed == stamp ? 0 : seed.recent ? kSubstepNewton : kResumeNewton;
   p = refine_closest_points(fa, fb, seed.cos_t, seed.sin_t, newton_steps, 1e-10);
   // the side is the seed's while it follows one minimum: circles that crossed within the
   // substep (wires pushed through each other) have their gap reversed, a negative distance

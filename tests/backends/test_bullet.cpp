@@ -88,9 +88,9 @@ TEST_F(Bullet, FreeFallIsTheSameInSiAndScaledUnits) {
 
 TEST_F(Bullet, TwoLinkedRingsHangWithoutParting) {
   auto run = sim({{"name", "two_rings"},
-                 {"weave", {{"type", "chain"}, {"cols", 2}}},
-                 {"pins", {{{"ring", {0, 0}}}}},
-                 {"duration", 5.0}});
+                  {"weave", {{"type", "chain"}, {"cols", 2}}},
+                  {"pins", {{{"ring", {0, 0}}}}},
+                  {"duration", 5.0}});
   const double a = run.scene.ring.wire_radius, id = run.scene.ring.inner_diameter();
   const Vec3 pinned = run.frame.position.col(0);
   double closest = 1e9, farthest = 0.0;
@@ -144,9 +144,9 @@ TEST_F(Bullet, CurtainHangsWithoutBrokenOrFalseLinks) {
   // first quarter second (its longest link then, 0.996 ID, is the run's longest) and hangs at
   // about 0.995 ID after; a second, sampled every quarter, covers the fall and the hang
   auto run = sim({{"name", "curtain"},
-                 {"weave", {{"type", "4in1"}, {"rows", 10}, {"cols", 10}, {"plane", "xy"}}},
-                 {"pins", {{{"edge", "top"}}}},
-                 {"duration", 1.0}});
+                  {"weave", {{"type", "4in1"}, {"rows", 10}, {"cols", 10}, {"plane", "xy"}}},
+                  {"pins", {{{"edge", "top"}}}},
+                  {"duration", 1.0}});
   for (int k = 0; k < 4; ++k) {
     run.advance(0.25);
     const Metrics m = measure(run.frame, run.weave, run.scene);
@@ -160,11 +160,11 @@ TEST_F(Bullet, CurtainHangsWithoutBrokenOrFalseLinks) {
 
 TEST_F(Bullet, SheetRestsOnPlaneWithoutJitter) {
   // a flat 4-in-1 sheet dropped from just above a floor
-  auto run = sim(
-      {{"name", "sheet_on_floor"},
-       {"weave", {{"type", "4in1"}, {"rows", 5}, {"cols", 5}, {"center", {0.0, 0.005, 0.0}}}},
-       {"colliders", {{{"type", "plane"}, {"point", {0.0, 0.0, 0.0}}, {"friction", 0.5}}}},
-       {"duration", 1.0}});
+  auto run =
+      sim({{"name", "sheet_on_floor"},
+           {"weave", {{"type", "4in1"}, {"rows", 5}, {"cols", 5}, {"center", {0.0, 0.005, 0.0}}}},
+           {"colliders", {{{"type", "plane"}, {"point", {0.0, 0.0, 0.0}}, {"friction", 0.5}}}},
+           {"duration", 1.0}});
   const RingGeometry& ring = run.scene.ring;
   run.advance(0.5);
   // settled: the kinetic energy stays below that of one ring moving at 1 mm/s, per ring

@@ -8,9 +8,9 @@
 #include <nlohmann/json.hpp>
 
 #include "core/massspring/massspring.hpp"
-#include "scene_file/scene_file.hpp"
 #include "core/spatial_hash.hpp"
 #include "core/weave.hpp"
+#include "scene_file/scene_file.hpp"
 
 namespace chainmail::massspring::test {
 
