@@ -33,17 +33,6 @@ int band_of(const std::vector<int>& first_ring, int ring) {
          1;
 }
 
-// pairs [begin, end) of a stage, each a block of its own
-std::vector<PairBlock> single_blocks(int begin, int end) {
-  std::vector<PairBlock> blocks;
-  for (int k = begin; k < end; ++k) {
-    PairBlock block;
-    block.pair = k;
-    blocks.push_back(block);
-  }
-  return blocks;
-}
-
 // reorders each colour's pairs by the band of their lower ring (a colour's pairs are independent:
 // their order changes nothing) and adds one stage per colour, its pairs also as blocks of four
 void add_colour_stages(SweepBands::Kind kind, std::vector<EdgeConstraint>& pairs,
@@ -65,13 +54,11 @@ void add_colour_stages(SweepBands::Kind kind, std::vector<EdgeConstraint>& pairs
       stage.band_start.push_back(static_cast<int>(at - pairs.begin()));
     }
     stage.block_start.push_back(0);
-    // the serial tail's pairs may share rings: one at a time
-    const bool independent = !colours.serial_tail || c + 1 < colours.colours();
+    // (a serial colour's pairs may share rings, but a block's four lanes never do, and blocks
+    // go in order)
     for (int k = 0; k < bands.bands(); ++k) {
-      const std::vector<PairBlock> band =
-          independent ? make_pair_blocks(pairs.data(), stage.band_start[k], stage.band_start[k + 1],
-                                         inverse_mass)
-                      : single_blocks(stage.band_start[k], stage.band_start[k + 1]);
+      const std::vector<PairBlock> band = make_pair_blocks(pairs.data(), stage.band_start[k],
+                                                           stage.band_start[k + 1], inverse_mass);
       stage.blocks.insert(stage.blocks.end(), band.begin(), band.end());
       stage.block_start.push_back(static_cast<int>(stage.blocks.size()));
     }
