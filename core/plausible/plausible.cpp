@@ -158,7 +158,7 @@ void PlausibleSim::step(double dt) {
   // where nothing comes between them: no collider friction, no forces to sum, no damping (the
   // last substep's)
   const bool fuse = model_.colliders.empty() && !model_.settings.repulsion_spring;
-  state_.scheduled_residual = 0.0;
+  state_.scheduled_stretch = 0.0;
   for (int k = 0; k < substeps; ++k) {
     const bool last = k + 1 == substeps;
     Substep substep{dt / substeps, last ? dt : 0.0, fuse && k > 0, fuse && !last, {}};
@@ -229,23 +229,25 @@ double PlausibleSim::headroom() const {
 }
 
 void PlausibleSim::control_substeps(double dt) {
-  // one sweep a substep leaves a stretch that grows with (dt / substeps)^2 and with the rows a
-  // sheet hangs by: a 256 x 256 curtain on 16 substeps stretches its links 1.9 % past the longest
-  // link at rest and 4.9 % (1.016 ID) as it swings back at 0.6 s. The control reads the largest
-  // violation of any kind the last sweep met (a link stretched, rings pressed closer than their
-  // bounds), at no cost: it rises while the sheet swings and folds, before the links reach their
-  // worst (their own violation alone rises too late: 1.004 ID at 0.5 s). Above three quarters of
-  // the way to a link at the inner diameter, the next step takes a quarter more substeps (what
-  // they leave falls with their square: 36 % less); under half of that, an eighth fewer, down to
-  // the fixed count
-  const double high = stretch_control_level(), low = 0.5 * high;             // of the longest link
-  const double violation = state_.scheduled_residual / model_.longest_link;  // of the longest link
+  // one sweep a substep leaves the links a stretch that falls with the square of the substeps
+  // (Macklin et al. 2019) and grows with the rows a sheet hangs by. The control reads the links'
+  // largest stretch the scheduled sweeps met (not the attachments': theirs is a whole path's; not
+  // contacts' or colliders': the speed floor below bounds how far a substep presses into them).
+  // Past the control level, the next step takes at least a quarter more substeps; otherwise, the
+  // count that would bring the stretch to the target (kStretchTarget of the headroom), falling
+  // by at most an eighth a step
+  const double high = stretch_control_level();                            // of the longest link
+  const double target = kStretchTarget * headroom();                      // of the longest link
+  const double stretch = state_.scheduled_stretch / model_.longest_link;  // of the longest link
   const int now = state_.substeps;
-  if (violation > high) {
-    state_.substeps = std::min(kMaxSubsteps, now + std::max(1, now / 4));
-  } else if (violation < low) {
-    state_.substeps = std::max(kMinSubsteps, now - std::max(1, now / 8));
+  const int wanted = static_cast<int>(
+      std::min<double>(kMaxSubsteps, std::ceil(now * std::sqrt(stretch / target))));
+  if (stretch > high) {
+    state_.substeps = std::max(wanted, now + std::max(1, now / 4));
+  } else if (wanted < now) {
+    state_.substeps = std::max(wanted, now - std::max(1, now / 8));
   }
+  state_.substeps = std::clamp(state_.substeps, kMinSubsteps, kMaxSubsteps);
   // the fastest ring's move over the next step, gravity's gain included, in substeps of at most
   // kMovePerSubstep inner diameters: a sweep corrects a substep's move only where the move is
   // small beside the rings (a sheet hitting a ball at 10 m/s tears otherwise)

@@ -172,9 +172,9 @@ struct PlausibleState {
   int newton_steps = 0;
   int substeps = 0;        // automatic substeps: what the stretch control gives the next step
   int speed_substeps = 1;  // automatic substeps: what the rings' speed asks of the next step
-  // m, the largest violation the step's substeps met in their last scheduled sweep (extra sweeps
+  // m, the links' largest stretch the step's substeps met in their scheduled sweeps (extra sweeps
   // past iterations not counted): what the stretch control reads
-  double scheduled_residual = 0.0;
+  double scheduled_stretch = 0.0;
   double residual = 0.0;  // m
 };
 
@@ -197,6 +197,15 @@ constexpr const char* stage_name(PlausibleStage stage) {
   return kNames[static_cast<int>(stage)];
 }
 
+// the largest violation one sweep met, m: the long-range attachments' (a ring farther from its
+// pins than its links allow: the sum of a path's stretch) apart from the links' own (edges and
+// diagonals), which the stretch bound is about
+struct SweepViolation {
+  double attachments = 0.0;  // m
+  double links = 0.0;        // m
+  double worst() const { return attachments > links ? attachments : links; }
+};
+
 class PlausibleSim {
  public:
   // automatic substeps: at least kMinSubsteps, more (up to kMaxSubsteps) while the sweeps leave
@@ -204,6 +213,9 @@ class PlausibleSim {
   static constexpr int kMinSubsteps = 4;
   static constexpr int kMaxSubsteps = 64;
   static constexpr double kMovePerSubstep = 0.25;  // inner diameters
+  // the links' stretch the control settles at, of the way from the longest link to a link at the
+  // inner diameter
+  static constexpr double kStretchTarget = 0.6;
 
   void reset(const Scene& scene, const Weave& weave, const PlausibleSettings& settings);
   void step(double dt);
@@ -221,7 +233,7 @@ class PlausibleSim {
   // (core/plausible/plausible_bands.cpp): what each constraint sweep runs before the contacts and
   // colliders. Its result is that of the colour-by-colour sweep (tests/core keeps that as the
   // oracle); the largest violation met, m
-  double sweep_links();
+  SweepViolation sweep_links();
 
   const PlausibleModel& model() const { return model_; }
   const PlausibleState& state() const {
@@ -246,12 +258,13 @@ class PlausibleSim {
   // the substeps of the next step: the knob's, or the larger of the stretch control's and the
   // speed's count
   int substep_count() const;
-  // automatic substeps: the last sweep's largest violation above the control level (of the
-  // longest link) adds substeps for the next step, and up to kExtraSweeps sweeps at once to the
-  // substep that met it; the fastest ring's move in the next step sets a floor
+  // automatic substeps: the links' stretch the step's scheduled sweeps met sets the next step's
+  // count (more at once past the control level, fewer toward the target, an eighth a step), a
+  // link met past the control level takes up to kExtraSweeps sweeps at once in its substep; the
+  // fastest ring's move in the next step sets a floor
   bool controls_substeps() const { return model_.settings.substeps == 0; }
   // the way from the longest link to a link at the inner diameter, of the longest link (at least
-  // 1 %); the control acts at three quarters of it
+  // 1 %); the control acts at three quarters of it and settles at kStretchTarget
   double headroom() const;
   double stretch_control_level() const { return 0.75 * headroom(); }
   void control_substeps(double dt);

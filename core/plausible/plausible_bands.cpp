@@ -141,7 +141,7 @@ void PlausibleSim::build_sweep_bands() {
                     model_.inverse_mass, bands);
 }
 
-double PlausibleSim::sweep_links() {
+SweepViolation PlausibleSim::sweep_links() {
   auto scope = profile_.scope("constraints");
   const SweepBands& bands = model_.bands;
   const int count = bands.bands();
@@ -154,8 +154,8 @@ double PlausibleSim::sweep_links() {
                        : 1;
   std::vector<double> busy(team, 0.0);  // s, each thread's time solving (not waiting)
   int members = 1;
-  double worst = 0.0;  // m
-#pragma omp parallel num_threads(team) reduction(max : worst)
+  double attachments = 0.0, links = 0.0;  // m
+#pragma omp parallel num_threads(team) reduction(max : attachments, links)
   {
     // this thread's run of bands (from the team it got, which may be smaller than asked; a new
     // team size starts from an even split)
@@ -189,7 +189,9 @@ double PlausibleSim::sweep_links() {
           if (above) wait_for(progress[k + 1], s);
           waiting += Clock::now() - wait_start;
         }
-        worst = std::max(worst, solve_stage_band(bands.stages[s], k));
+        const double met = solve_stage_band(bands.stages[s], k);  // m
+        double& kind = bands.stages[s].kind == SweepBands::Kind::attachments ? attachments : links;
+        kind = std::max(kind, met);
         // only the run's edge bands are waited for
         if (k == first || k == last - 1) report(progress[k], s + 1);
       }
@@ -198,7 +200,7 @@ double PlausibleSim::sweep_links() {
   }
   busy.resize(members);
   balance_band_split(busy);
-  return worst;
+  return {attachments, links};
 }
 
 void PlausibleSim::balance_band_split(const std::vector<double>& busy) {

@@ -44,23 +44,25 @@ void PlausibleSim::solve_positions() {
   state_.residual = 0.0;
   // the step's sweeps are shared among its substeps
   const int iterations = std::max(1, model_.settings.iterations / substep_count());
-  // with the substeps under control, up to kExtraSweeps more while a sweep meets a violation past
-  // the control level (control_substeps): the substep that meets it is not left with it
+  // with the substeps under control, up to kExtraSweeps more while a sweep meets a link stretched
+  // past the control level (control_substeps): the substep that meets it is not left with it
   const int extra = controls_substeps() ? kExtraSweeps : 0;
   const double control = stretch_control_level() * model_.longest_link;  // m
   while (state_.sweeps < iterations + extra) {
     // the attachments first: the sheet-wide part of a stretch, then the edges fix the local one
-    double residual = sweep_links();  // m
+    const SweepViolation links = sweep_links();
+    double residual = links.worst();  // m
     if (contacts) residual = std::max(residual, solve_contacts());
     if (colliders) residual = std::max(residual, collide());
     ++state_.sweeps;
     state_.residual = residual;
-    // what the scheduled sweeps left, before any extra ones: the stretch control's signal
+    // the links' stretch the scheduled sweeps met, before any extra ones: the stretch control's
+    // signal
     if (state_.sweeps <= iterations) {
-      state_.scheduled_residual = std::max(state_.scheduled_residual, residual);
+      state_.scheduled_stretch = std::max(state_.scheduled_stretch, links.links);
     }
     if (residual <= tolerance) return;
-    if (state_.sweeps >= iterations && residual <= control) break;
+    if (state_.sweeps >= iterations && links.links <= control) break;
   }
   // what the sweeps leave past the Newton level (a sheet torn by an impact or a huge step: the
   // sweeps move a violation a few rings a sweep), Newton steps on the edges and colliders

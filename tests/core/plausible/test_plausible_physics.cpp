@@ -231,6 +231,29 @@ TEST(PlausiblePhysics, SubstepsFollowTheStateNotTheRingCount) {
   EXPECT_LE(sim.state().speed_substeps, expected + 1);
 }
 
+TEST(PlausiblePhysics, DrapedSheetAtRestTakesTheSubstepsItsLinksNeed) {
+  // the bench's table cloth at rest: the control reads the links' stretch alone, so it holds the
+  // fewest substeps that keep the stretch one sweep a substep leaves (falling with the square of
+  // the count) at its target, and no more: one substep fewer would pass the target
+  const std::string bench = CHAINMAIL_SOURCE_DIR "/bench/scenes/";
+  const Scene scene = load_scene_file(
+      bench + "table_cloth.json",
+      {"weave.rows=16", "weave.cols=16", "colliders.0.radius=0.03", "support.radius=0.03"});
+  PlausibleSim sim;
+  sim.reset(scene, make_weave(scene.weave, scene.ring), PlausibleSettings{});
+  for (int s = 0; s < 250; ++s) sim.step(0.004);
+  const double longest = sim.model().longest_link;                      // m
+  const double headroom = scene.ring.inner_diameter() / longest - 1.0;  // of it
+  const double stretch = sim.state().scheduled_stretch / longest;       // of it
+  const int n = sim.state().substeps;
+  std::printf("table cloth at rest: %d substeps, stretch %.4f of the longest link\n", n, stretch);
+  ASSERT_GT(n, PlausibleSim::kMinSubsteps);  // it needs more than the fewest
+  EXPECT_LE(stretch, 0.75 * headroom);       // within the control level
+  const double fewer = stretch * (n * n) / ((n - 1.0) * (n - 1.0));
+  EXPECT_GT(fewer, PlausibleSim::kStretchTarget * headroom);
+  EXPECT_LE(sim.max_over_extension(), 0.75 * headroom);
+}
+
 TEST(PlausiblePhysics, SheetHittingABallAtTheLargestStepKeepsItsLinks) {
   // the stability suite's impact (a 6 x 6 sheet at 10 m/s onto a ball) at dt 0.1 s: substeps for
   // the speed and the Newton correction where the sweeps leave a link past the rings

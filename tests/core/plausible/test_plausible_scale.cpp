@@ -233,7 +233,7 @@ TEST(PlausibleScale, BandedSweepGivesTheColouredSweepsBits) {
           const Positions start = sim.state().position;
           Positions expected = start;
           const double expected_worst = coloured_sweep(sim.model(), expected);
-          const double worst = sim.sweep_links();
+          const double worst = sim.sweep_links().worst();
           EXPECT_EQ(worst, expected_worst) << threads << " threads, check " << check;
           EXPECT_TRUE((sim.state().position.array() == expected.array()).all())
               << threads << " threads, vector " << vector << ", check " << check;
