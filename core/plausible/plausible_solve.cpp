@@ -42,6 +42,7 @@ void PlausibleSim::solve_positions() {
   state_.sweeps = 0;
   state_.newton_steps = 0;
   state_.residual = 0.0;
+  double local = 0.0;  // m, the last sweep's largest violation but the attachments'
   // the step's sweeps are shared among its substeps
   const int iterations = std::max(1, model_.settings.iterations / substep_count());
   // with the substeps under control, up to kExtraSweeps more while a sweep meets a link stretched
@@ -51,9 +52,10 @@ void PlausibleSim::solve_positions() {
   while (state_.sweeps < iterations + extra) {
     // the attachments first: the sheet-wide part of a stretch, then the edges fix the local one
     const SweepViolation links = sweep_links();
-    double residual = links.worst();  // m
-    if (contacts) residual = std::max(residual, solve_contacts());
-    if (colliders) residual = std::max(residual, collide());
+    local = links.links;
+    if (contacts) local = std::max(local, solve_contacts());
+    if (colliders) local = std::max(local, collide());
+    const double residual = std::max(local, links.attachments);  // m
     ++state_.sweeps;
     state_.residual = residual;
     // the links' stretch the scheduled sweeps met, before any extra ones: the stretch control's
@@ -66,9 +68,10 @@ void PlausibleSim::solve_positions() {
   }
   // what the sweeps leave past the Newton level (a sheet torn by an impact or a huge step: the
   // sweeps move a violation a few rings a sweep), Newton steps on the edges and colliders
-  // together remove; the state decides, not the ring count
+  // together remove; the state decides, not the ring count. An attachment's violation is a whole
+  // path's: the rows are built only where a link, contact or collider was met past the level
   const double trigger = newton_trigger();  // m
-  if (model_.settings.newton_steps > 0 && state_.residual > trigger) {
+  if (model_.settings.newton_steps > 0 && local > trigger) {
     solve_together(tolerance, trigger);
   }
 }
