@@ -63,6 +63,24 @@ std::vector<EdgeConstraint> outward_edges(const std::vector<EdgeConstraint>& edg
   return outward;
 }
 
+// the outward edges on the way from the pins to each ring kCarriedMassRatio times heavier than
+// a ring it hangs from (outward is ordered by depth: a reverse walk reaches every ancestor)
+std::vector<EdgeConstraint> carried_edges(const std::vector<EdgeConstraint>& outward,
+                                          const std::vector<double>& inverse_mass) {
+  std::vector<char> carried(inverse_mass.size(), 0);
+  for (const EdgeConstraint& e : outward) {
+    if (inverse_mass[e.b] * PlausibleSim::kCarriedMassRatio <= inverse_mass[e.a]) carried[e.b] = 1;
+  }
+  for (auto e = outward.rbegin(); e != outward.rend(); ++e) {
+    if (carried[e->b]) carried[e->a] = 1;
+  }
+  std::vector<EdgeConstraint> edges;
+  for (const EdgeConstraint& e : outward) {
+    if (carried[e.b]) edges.push_back(e);
+  }
+  return edges;
+}
+
 }  // namespace
 
 void PlausibleSim::reset(const Scene& scene, const Weave& weave,
@@ -102,6 +120,7 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   model_.diagonal_colours = colour_pairs(model_.diagonals, n);
   model_.longest_link = max_length;
   model_.outward = outward_edges(model_.edges, weave, model_.inverse_mass);
+  model_.carried = carried_edges(model_.outward, model_.inverse_mass);
   const std::vector<int> pinned = resolve_pins(scene, weave);
   if (settings.swivel_from_pins && settings.swivel && weave.type == WeaveType::four_in_one) {
     model_.pin_paths = pin_paths(weave, pinned);
@@ -126,7 +145,7 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   // no velocity (a substep's correction would, at 1 / h of it)
   const double tolerance = settings.tolerance * model_.longest_link;  // m
   if (max_over_extension() * model_.longest_link > tolerance) {
-    solve_together(tolerance, 0.0);
+    solve_together(model_.edges, !model_.colliders.empty(), tolerance, 0.0);
     state_.previous = state_.position;
     state_.contact_push.setZero();
   }

@@ -130,7 +130,10 @@ struct PlausibleModel {
   Colouring edge_colours;               // edges of one colour share no ring
   double longest_link = 0.0;            // m, the largest max_length: the solver's length scale
   std::vector<EdgeConstraint> outward;  // edges reachable from a pin, a = nearer the pin, by depth
-  PinAttachments attachments;           // long-range attachments to the pins (pin_attachments)
+  // the outward edges on the way from the pins to a ring kCarriedMassRatio times heavier than a
+  // ring it hangs from: Newton steps hold them every substep
+  std::vector<EdgeConstraint> carried;
+  PinAttachments attachments;  // long-range attachments to the pins (pin_attachments)
   // rings that share two neighbours, and rings of adjacent rows a row and a half apart (4-in-1
   // with compression_limits), kept within their bounds
   std::vector<EdgeConstraint> diagonals;  // by colour
@@ -213,6 +216,9 @@ class PlausibleSim {
   static constexpr int kMinSubsteps = 4;
   static constexpr int kMaxSubsteps = 64;
   static constexpr double kMovePerSubstep = 0.25;  // inner diameters
+  // a ring this many times heavier than a ring it hangs from takes Newton steps on its way to the
+  // pins (PlausibleModel::carried)
+  static constexpr double kCarriedMassRatio = 4.0;
   // the links' stretch the control settles at, of the way from the longest link to a link at the
   // inner diameter
   static constexpr double kStretchTarget = 0.6;
@@ -286,10 +292,14 @@ class PlausibleSim {
   bool solves_contacts() const;
   // Newton steps on the edges and colliders until the largest violation is below tolerance, m;
   // none where it is below trigger to begin with
-  void solve_together(double tolerance, double trigger);
+  // Newton steps on `edges` (and the colliders) until the largest violation is below tolerance;
+  // none where it is below trigger to begin with. The violation left, m
+  double solve_together(const std::vector<EdgeConstraint>& edges, bool colliders, double tolerance,
+                        double trigger);
   double newton_trigger() const;  // m, the violation past which the Newton steps run
   // rows of the constraints violated or within `near` of their bound; the largest violation, m
-  double edge_rows(double near, std::vector<ProjectionRow>& rows) const;
+  double edge_rows(const std::vector<EdgeConstraint>& edges, double near,
+                   std::vector<ProjectionRow>& rows) const;
   double contact_rows(double near, std::vector<ProjectionRow>& rows) const;
   double collider_rows(double near, std::vector<ProjectionRow>& rows);
   // one sweep over the contact list's pairs; the largest violation met, m

@@ -71,8 +71,14 @@ void PlausibleSim::solve_positions() {
   // together remove; the state decides, not the ring count. An attachment's violation is a whole
   // path's: the rows are built only where a link, contact or collider was met past the level
   const double trigger = newton_trigger();  // m
-  if (model_.settings.newton_steps > 0 && local > trigger) {
-    solve_together(tolerance, trigger);
+  if (model_.settings.newton_steps == 0) return;
+  if (local > trigger) {
+    state_.residual = solve_together(model_.edges, !model_.colliders.empty(), tolerance, trigger);
+  } else if (!model_.carried.empty()) {
+    // a ring much heavier than one it hangs from: the sweeps move each pair by its mass shares,
+    // so the light rings on its way to the pins pass its weight on a little a sweep and it
+    // sinks and jitters; Newton steps on the edges of that way hold it
+    solve_together(model_.carried, false, tolerance, tolerance);
   }
 }
 
@@ -89,24 +95,24 @@ bool PlausibleSim::solves_contacts() const {
   return model_.self_contact && !model_.settings.repulsion_spring && state_.position.cols() > 1;
 }
 
-void PlausibleSim::solve_together(double tolerance, double trigger) {
+double PlausibleSim::solve_together(const std::vector<EdgeConstraint>& edges, bool colliders,
+                                    double tolerance, double trigger) {
   // the minimum distances between non-neighbours stay with the sweeps: where a sheet is packed
   // tight they contradict the edges, and a system holding both has no solution
-  const bool colliders = !model_.colliders.empty();
   std::vector<ProjectionRow> rows;
+  double residual = 0.0;  // m
   for (;;) {
     rows.clear();
-    double residual = 0.0;
+    residual = 0.0;
     {
       auto scope = profile_.scope("constraints");
-      residual = std::max(residual, edge_rows(tolerance, rows));
+      residual = std::max(residual, edge_rows(edges, tolerance, rows));
     }
     const size_t first_collider = rows.size();
     if (colliders) {
       auto scope = profile_.scope("colliders");
       residual = std::max(residual, collider_rows(tolerance, rows));
     }
-    state_.residual = residual;
     // the sweeps' residual counts every kind of violation: the edges and colliders alone may
     // stand within the level
     if (state_.newton_steps == 0 && residual <= trigger) break;
@@ -121,13 +127,15 @@ void PlausibleSim::solve_together(double tolerance, double trigger) {
       state_.contact_push[ring] += result.shift[k] * model_.inverse_mass[ring];
     }
   }
+  return residual;
 }
 
-double PlausibleSim::edge_rows(double near, std::vector<ProjectionRow>& rows) const {
+double PlausibleSim::edge_rows(const std::vector<EdgeConstraint>& edges, double near,
+                               std::vector<ProjectionRow>& rows) const {
   const Positions& p = state_.position;
   const std::vector<double>& w = model_.inverse_mass;
   double worst = 0.0;  // m
-  for (const EdgeConstraint& e : model_.edges) {
+  for (const EdgeConstraint& e : edges) {
     if (w[e.a] + w[e.b] == 0.0) continue;
     const Vec3 d = p.col(e.b) - p.col(e.a);
     const double length = d.norm();
