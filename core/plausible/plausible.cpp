@@ -211,9 +211,9 @@ void PlausibleSim::run_stage(PlausibleStage stage, Substep& substep) {
     case PlausibleStage::orient:
       // ring orientation from the neighbour vectors (paper §4), once a step: the colliders read
       // it every step (a torus reaches into a collider by its orientation); otherwise only frames
-      // do, and it waits
+      // and a chain's contacts (solve_positions) do, and it waits
       orientation_stale_ = true;
-      if (!model_.colliders.empty() || model_.shaped_contacts) {
+      if (!model_.colliders.empty()) {
         auto scope = profile_.scope(stage_name(stage));
         orient();
       }

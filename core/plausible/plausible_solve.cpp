@@ -38,6 +38,12 @@ void PlausibleSim::solve_positions() {
   // Gauss-Seidel sweeps: each ends with the colliders, so a converged sweep leaves the edges
   // within tolerance with every ring outside (neither has the last word)
   const bool contacts = solves_contacts();
+  // a chain's minimum distances read the ring axes: derived once a step, where a pair is near
+  if (contacts && model_.shaped_contacts && orientation_stale_ &&
+      !state_.contact_candidates.empty()) {
+    auto scope = profile_.scope(stage_name(PlausibleStage::orient));
+    orient();
+  }
   const bool colliders = !model_.colliders.empty();
   state_.sweeps = 0;
   state_.newton_steps = 0;
