@@ -138,6 +138,8 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   model_.gravity = scene.gravity;
   model_.self_contact = scene.self_contact;
   model_.repulsion_range = settings.repulsion_fraction * ring.inner_diameter();
+  // a chain has no bounds of its own between non-neighbours: their tori decide how close they come
+  model_.shaped_contacts = weave.type == WeaveType::chain && !settings.repulsion_spring;
 
   reset_state(scene.initial_velocity);
   // a layout whose links are longer than the rings allow (a grid spaced at the inner diameter)
@@ -228,7 +230,7 @@ void PlausibleSim::run_stage(PlausibleStage stage, Substep& substep) {
     case PlausibleStage::orient:
       // ring orientation from the neighbour vectors (paper §4), once a step: the colliders read
       // it every step (a torus reaches into a collider by its orientation); otherwise only frames
-      // do, and it waits
+      // and a chain's contacts (solve_positions) do, and it waits
       orientation_stale_ = true;
       if (!model_.colliders.empty()) {
         auto scope = profile_.scope(stage_name(stage));
@@ -456,9 +458,12 @@ void PlausibleSim::orient() const {
   constexpr double follow = 0.2;
   const bool first = state_.contact_axis.cols() != n;
   if (first) state_.contact_axis.resize(3, n);
+  const bool shaped = model_.shaped_contacts;
+  if (shaped) state_.ring_axis.resize(3, n);
 #pragma omp parallel for schedule(static) num_threads(loop_threads(threads_, n))
   for (int i = 0; i < n; ++i) {
     const Vec3 axis = Quat(o(0, i), o(1, i), o(2, i), o(3, i)) * Vec3::UnitY();
+    if (shaped) state_.ring_axis.col(i) = axis;
     const Vec3 old = state_.contact_axis.col(i);
     // the axis's sign is arbitrary: follow it from the side the old one is on
     const Vec3 target = !first && axis.dot(old) < 0.0 ? Vec3(-axis) : axis;
@@ -472,7 +477,9 @@ void PlausibleSim::frame(RingFrame& out) const {
   out.t = state_.t;
   out.position = state_.position;
   out.orientation = state_.orientation;
-  if (model_.settings.swivel && model_.weave.type == WeaveType::four_in_one) {
+  // a chain's quarter turns from the centres alone leave a folded link apart: turned to link
+  const bool chain = model_.weave.type == WeaveType::chain;
+  if ((model_.settings.swivel && model_.weave.type == WeaveType::four_in_one) || chain) {
     keep_links(state_.position, model_.weave, model_.ring, out.orientation);
   }
   out.velocity = state_.velocity;

@@ -38,6 +38,12 @@ void PlausibleSim::solve_positions() {
   // Gauss-Seidel sweeps: each ends with the colliders, so a converged sweep leaves the edges
   // within tolerance with every ring outside (neither has the last word)
   const bool contacts = solves_contacts();
+  // a chain's minimum distances read the ring axes: derived once a step, where a pair is near
+  if (contacts && model_.shaped_contacts && orientation_stale_ &&
+      !state_.contact_candidates.empty()) {
+    auto scope = profile_.scope(stage_name(PlausibleStage::orient));
+    orient();
+  }
   const bool colliders = !model_.colliders.empty();
   state_.sweeps = 0;
   state_.newton_steps = 0;
@@ -259,12 +265,43 @@ double PlausibleSim::collide() {
   return worst;
 }
 
+double PlausibleSim::shaped_range(const RingPair& pair, const Vec3& normal) const {
+  // each torus's convex hull reaches c sqrt(1 - (y . u)^2) + a from its centre along u (y its
+  // axis): hulls that far apart along the line between the centres cannot overlap, so rings
+  // lying face to face may come to 2a. The bound is conservative (a rim resting in another ring's
+  // hole is closer) and reads the orientations the model derives from the centres, a guess where
+  // a chain folds: it only lets a pair closer than repulsion_range, never holds one farther (held
+  // to 2 (c + a) edge on, a dropped chain stands as a column twice as tall)
+  const double c = model_.ring.centre_radius, a = model_.ring.wire_radius;  // m
+  const double along_a = state_.ring_axis.col(pair.a).dot(normal);
+  const double along_b = state_.ring_axis.col(pair.b).dot(normal);
+  const double hull = 2.0 * a + c * (std::sqrt(std::max(0.0, 1.0 - along_a * along_a)) +
+                                     std::sqrt(std::max(0.0, 1.0 - along_b * along_b)));
+  return std::min(model_.repulsion_range, hull);
+}
+
+Vec3 PlausibleSim::slip_direction(const RingPair& pair, const Vec3& normal) const {
+  // round rims pressed together slide toward the rings' faces, where the hulls let the pair come
+  // closer: the push turns from the centre line toward each ring's axis by kContactSlip of the
+  // axis's part across the line (the way the hull distance falls; edge on, where neither way
+  // falls, the way the axis points: the tie a dropped chain meets, which real rings and the rigid
+  // engines' faceted ones break by their imperfections)
+  Vec3 side = Vec3::Zero();
+  for (const int ring : {pair.a, pair.b}) {
+    const Vec3 axis = state_.ring_axis.col(ring);
+    const double along = axis.dot(normal);
+    side += (along < 0.0 ? -1.0 : 1.0) * (axis - along * normal);
+  }
+  return (normal + kContactSlip * side).normalized();
+}
+
 double PlausibleSim::solve_contacts() {
   auto scope = profile_.scope("self_contact");
   Positions& p = state_.position;
   const Positions& before = state_.previous;
   const std::vector<double>& w = model_.inverse_mass;
   const double range = model_.repulsion_range;
+  const bool shaped = model_.shaped_contacts;
   return sweep_colours(state_.contact_colours, threads_, [&](int k) {
     const RingPair& pair = state_.contact_candidates[k];
     const double weight = w[pair.a] + w[pair.b];
@@ -277,9 +314,15 @@ double PlausibleSim::solve_contacts() {
     const double length = normal.norm();
     if (length < 1e-12) return 0.0;
     normal /= length;
-    const double gap = (p.col(pair.b) - p.col(pair.a)).dot(normal) - range;  // m, < 0 too close
+    const double reach = shaped ? shaped_range(pair, normal) : range;        // m
+    const double gap = (p.col(pair.b) - p.col(pair.a)).dot(normal) - reach;  // m, < 0 too close
     if (gap >= 0.0) return 0.0;
-    const Vec3 shift = (gap / weight) * normal;
+    Vec3 shift = (gap / weight) * normal;
+    if (shaped) {
+      // along the slip direction, by as much as closes the gap along the normal
+      const Vec3 dir = slip_direction(pair, normal);
+      shift = (gap / (weight * dir.dot(normal))) * dir;
+    }
     p.col(pair.a) += w[pair.a] * shift;
     p.col(pair.b) -= w[pair.b] * shift;
     return -gap;
