@@ -131,7 +131,7 @@ struct PlausibleModel {
   double longest_link = 0.0;            // m, the largest max_length: the solver's length scale
   std::vector<EdgeConstraint> outward;  // edges reachable from a pin, a = nearer the pin, by depth
   // the outward edges on the way from the pins to a ring kCarriedMassRatio times heavier than a
-  // ring it hangs from: Newton steps hold them every substep
+  // ring it hangs from: swept again after every substep's sweeps (hold_carried)
   std::vector<EdgeConstraint> carried;
   PinAttachments attachments;  // long-range attachments to the pins (pin_attachments)
   // rings that share two neighbours, and rings of adjacent rows a row and a half apart (4-in-1
@@ -221,9 +221,10 @@ class PlausibleSim {
   static constexpr int kMinSubsteps = 4;
   static constexpr int kMaxSubsteps = 64;
   static constexpr double kMovePerSubstep = 0.25;  // inner diameters
-  // a ring this many times heavier than a ring it hangs from takes Newton steps on its way to the
-  // pins (PlausibleModel::carried)
+  // a ring this many times heavier than a ring it hangs from has its way to the pins swept up to
+  // kCarriedPasses more times a substep (PlausibleModel::carried)
   static constexpr double kCarriedMassRatio = 4.0;
+  static constexpr int kCarriedPasses = 8;
   // the links' stretch the control settles at, of the way from the longest link to a link at the
   // inner diameter
   static constexpr double kStretchTarget = 0.6;
@@ -302,6 +303,8 @@ class PlausibleSim {
   double solve_together(const std::vector<EdgeConstraint>& edges, bool colliders, double tolerance,
                         double trigger);
   double newton_trigger() const;  // m, the violation past which the Newton steps run
+  // the carried edges swept again (kCarriedPasses at most), tolerance in m
+  void hold_carried(double tolerance);
   // rows of the constraints violated or within `near` of their bound; the largest violation, m
   double edge_rows(const std::vector<EdgeConstraint>& edges, double near,
                    std::vector<ProjectionRow>& rows) const;

@@ -77,14 +77,33 @@ void PlausibleSim::solve_positions() {
   // together remove; the state decides, not the ring count. An attachment's violation is a whole
   // path's: the rows are built only where a link, contact or collider was met past the level
   const double trigger = newton_trigger();  // m
-  if (model_.settings.newton_steps == 0) return;
-  if (local > trigger) {
+  if (model_.settings.newton_steps > 0 && local > trigger) {
     state_.residual = solve_together(model_.edges, !model_.colliders.empty(), tolerance, trigger);
-  } else if (!model_.carried.empty()) {
-    // a ring much heavier than one it hangs from: the sweeps move each pair by its mass shares,
-    // so the light rings on its way to the pins pass its weight on a little a sweep and it
-    // sinks and jitters; Newton steps on the edges of that way hold it
-    solve_together(model_.carried, false, tolerance, tolerance);
+  }
+  if (!model_.carried.empty()) hold_carried(tolerance);
+}
+
+void PlausibleSim::hold_carried(double tolerance) {
+  // a ring much heavier than one it hangs from: a sweep moves each pair by its mass shares, so
+  // the light rings on its way to the pins pass its weight on a little a sweep while it sinks
+  // and jitters. More sweeps of that way alone, from the heavy ring up, until one meets no edge
+  // past the tolerance
+  auto scope = profile_.scope("carried");
+  Positions& p = state_.position;
+  const std::vector<double>& w = model_.inverse_mass;
+  const std::vector<EdgeConstraint>& edges = model_.carried;
+  for (int pass = 0; pass < kCarriedPasses; ++pass) {
+    double worst = 0.0;  // m
+    for (auto e = edges.rbegin(); e != edges.rend(); ++e) {
+      Vec3 move_a, move_b;
+      const double violation = solve_edge_constraint(p.col(e->a), w[e->a], p.col(e->b), w[e->b],
+                                                     e->min_length, e->max_length, move_a, move_b);
+      if (violation <= 0.0) continue;
+      p.col(e->a) += move_a;
+      p.col(e->b) += move_b;
+      worst = std::max(worst, violation);
+    }
+    if (worst <= tolerance) return;
   }
 }
 

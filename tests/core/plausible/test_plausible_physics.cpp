@@ -272,9 +272,9 @@ TEST(PlausiblePhysics, DrapedSheetAtRestTakesTheSubstepsItsLinksNeed) {
 
 TEST(PlausiblePhysics, HeavyRingHangingFromTheSheetComesToRest) {
   // the stability suite's heavy_weight (a ring 100 times heavier at the bottom of a 6 x 6
-  // curtain) at the default dt: the Newton steps on its way to the pins let it come to rest, the
-  // kinetic energy left after its 0.3 s at most a hundredth of the potential energy the sheet
-  // gave up (the sweeps alone left it jittering at a few hundredths)
+  // curtain) at the default dt: with its way to the pins swept again it comes to rest, the
+  // kinetic energy left after a second under a thousandth of the potential energy the sheet gave
+  // up (the sweeps alone kept about a hundredth moving for seconds)
   const Scene scene =
       load_scene_file(CHAINMAIL_SOURCE_DIR "/bench/scenes/stability/heavy_weight.json");
   const Weave weave = make_weave(scene.weave, scene.ring);
@@ -288,17 +288,22 @@ TEST(PlausiblePhysics, HeavyRingHangingFromTheSheetComesToRest) {
     return e;
   };
   const double start = potential(), dt = 0.004;
-  for (int s = 0; s < static_cast<int>(std::lround(scene.duration / dt)); ++s) sim.step(dt);
-  const double released = start - potential(), left = kinetic_energy(sim);  // J
-  std::printf("heavy weight: %.3g J released, %.3g J left moving\n", released, left);
+  double most_late = 0.0;  // J, the most kinetic energy over the last 0.2 s
+  for (int s = 0; s < 250; ++s) {
+    sim.step(dt);
+    if (s >= 200) most_late = std::max(most_late, kinetic_energy(sim));
+  }
+  const double released = start - potential();  // J
+  std::printf("heavy weight: %.3g J released, at most %.3g J moving after 0.8 s\n", released,
+              most_late);
   EXPECT_GT(released, 0.0);
-  EXPECT_LE(left, 0.01 * released);
+  EXPECT_LE(most_late, 1e-3 * released);
   // no link past the inner diameter
   EXPECT_LE(sim.max_over_extension(), scene.ring.inner_diameter() / sim.model().longest_link - 1.0);
 }
 
 TEST(PlausiblePhysics, SheetOfEqualRingsCarriesNoRing) {
-  // the Newton steps on a heavy ring's way to the pins are for rings kCarriedMassRatio heavier
+  // the extra sweeps of a heavy ring's way to the pins are for rings kCarriedMassRatio heavier
   // than a ring they hang from: a sheet of equal rings has none
   const Scene scene = load_scene_file(CHAINMAIL_SOURCE_DIR "/bench/scenes/curtain.json");
   PlausibleSim sim;
