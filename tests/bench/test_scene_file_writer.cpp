@@ -160,8 +160,8 @@ TEST(SceneWriter, KnobSectionsAsWritten) {
             R"({"massspring":{"dt":0.001,"ks":500.0,"substeps":10},"ode":{},)"
             R"("plausible":{"iterations":-3,"swivel_fit":true},)"
             R"("torus_xpbd":{"friction_law":"pyramid"}})");
-  const KnobValue& law =
-      scene_from_json(written, "written.json").backends.at("torus_xpbd").at("friction_law");
+  const Scene read = scene_from_json(written, "written.json");
+  const KnobValue& law = read.backends.at("torus_xpbd").at("friction_law");
   EXPECT_EQ(law.kind, KnobValue::Kind::string);
   EXPECT_EQ(law.text, "pyramid");
   EXPECT_EQ(scene.backends.at("torus_xpbd").at("friction_law").text, "pyramid");
