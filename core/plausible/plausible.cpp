@@ -147,7 +147,7 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   // no velocity (a substep's correction would, at 1 / h of it)
   const double tolerance = settings.tolerance * model_.longest_link;  // m
   if (max_over_extension() * model_.longest_link > tolerance) {
-    solve_together(model_.edges, !model_.colliders.empty(), tolerance, 0.0);
+    solve_together(tolerance, 0.0);
     state_.previous = state_.position;
     state_.contact_push.setZero();
   }

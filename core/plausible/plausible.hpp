@@ -298,16 +298,14 @@ class PlausibleSim {
   bool solves_contacts() const;
   // Newton steps on the edges and colliders until the largest violation is below tolerance, m;
   // none where it is below trigger to begin with
-  // Newton steps on `edges` (and the colliders) until the largest violation is below tolerance;
-  // none where it is below trigger to begin with. The violation left, m
-  double solve_together(const std::vector<EdgeConstraint>& edges, bool colliders, double tolerance,
-                        double trigger);
+  // Newton steps on the edges and colliders until the largest violation is below tolerance, m;
+  // none where it is below trigger to begin with
+  void solve_together(double tolerance, double trigger);
   double newton_trigger() const;  // m, the violation past which the Newton steps run
   // the carried edges swept again (kCarriedPasses at most), tolerance in m
   void hold_carried(double tolerance);
   // rows of the constraints violated or within `near` of their bound; the largest violation, m
-  double edge_rows(const std::vector<EdgeConstraint>& edges, double near,
-                   std::vector<ProjectionRow>& rows) const;
+  double edge_rows(double near, std::vector<ProjectionRow>& rows) const;
   double contact_rows(double near, std::vector<ProjectionRow>& rows) const;
   double collider_rows(double near, std::vector<ProjectionRow>& rows);
   // one sweep over the contact list's pairs; the largest violation met, m

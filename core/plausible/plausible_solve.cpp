@@ -78,7 +78,7 @@ void PlausibleSim::solve_positions() {
   // path's: the rows are built only where a link, contact or collider was met past the level
   const double trigger = newton_trigger();  // m
   if (model_.settings.newton_steps > 0 && local > trigger) {
-    state_.residual = solve_together(model_.edges, !model_.colliders.empty(), tolerance, trigger);
+    solve_together(tolerance, trigger);
   }
   if (!model_.carried.empty()) hold_carried(tolerance);
 }
@@ -120,24 +120,24 @@ bool PlausibleSim::solves_contacts() const {
   return model_.self_contact && !model_.settings.repulsion_spring && state_.position.cols() > 1;
 }
 
-double PlausibleSim::solve_together(const std::vector<EdgeConstraint>& edges, bool colliders,
-                                    double tolerance, double trigger) {
+void PlausibleSim::solve_together(double tolerance, double trigger) {
   // the minimum distances between non-neighbours stay with the sweeps: where a sheet is packed
   // tight they contradict the edges, and a system holding both has no solution
+  const bool colliders = !model_.colliders.empty();
   std::vector<ProjectionRow> rows;
-  double residual = 0.0;  // m
   for (;;) {
     rows.clear();
-    residual = 0.0;
+    double residual = 0.0;
     {
       auto scope = profile_.scope("constraints");
-      residual = std::max(residual, edge_rows(edges, tolerance, rows));
+      residual = std::max(residual, edge_rows(tolerance, rows));
     }
     const size_t first_collider = rows.size();
     if (colliders) {
       auto scope = profile_.scope("colliders");
       residual = std::max(residual, collider_rows(tolerance, rows));
     }
+    state_.residual = residual;
     // the sweeps' residual counts every kind of violation: the edges and colliders alone may
     // stand within the level
     if (state_.newton_steps == 0 && residual <= trigger) break;
@@ -152,15 +152,13 @@ double PlausibleSim::solve_together(const std::vector<EdgeConstraint>& edges, bo
       state_.contact_push[ring] += result.shift[k] * model_.inverse_mass[ring];
     }
   }
-  return residual;
 }
 
-double PlausibleSim::edge_rows(const std::vector<EdgeConstraint>& edges, double near,
-                               std::vector<ProjectionRow>& rows) const {
+double PlausibleSim::edge_rows(double near, std::vector<ProjectionRow>& rows) const {
   const Positions& p = state_.position;
   const std::vector<double>& w = model_.inverse_mass;
   double worst = 0.0;  // m
-  for (const EdgeConstraint& e : edges) {
+  for (const EdgeConstraint& e : model_.edges) {
     if (w[e.a] + w[e.b] == 0.0) continue;
     const Vec3 d = p.col(e.b) - p.col(e.a);
     const double length = d.norm();
