@@ -88,6 +88,7 @@ void PlausibleSim::reset(const Scene& scene, const Weave& weave,
   band_split_.clear();  // the threads' split of the bands starts even
   band_busy_.clear();
   const int n = weave.size();
+  threads_ = team_threads(n);
   const RingGeometry& ring = scene.ring;
 
   // fixed model
@@ -174,6 +175,7 @@ void PlausibleSim::reset_state(const Vec3& initial_velocity) {
 }
 
 void PlausibleSim::step(double dt) {
+  threads_ = team_threads(static_cast<int>(state_.position.cols()));
   const int substeps = substep_count();
   // a substep's velocity update and the next one's prediction share one pass over the rings
   // where nothing comes between them: no collider friction, no forces to sum, no damping (the

@@ -4,6 +4,7 @@
 // constrained positions, and ring orientations are derived from the neighbour vectors.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <cstdlib>
@@ -228,14 +229,20 @@ class PlausibleSim {
   // the links' stretch the control settles at, of the way from the longest link to a link at the
   // inner diameter
   static constexpr double kStretchTarget = 0.6;
+  // rings a thread's share of a step is worth (set_threads)
+  static constexpr int kRingsPerThread = 5000;
 
   void reset(const Scene& scene, const Weave& weave, const PlausibleSettings& settings);
   void step(double dt);
   void frame(RingFrame& out) const;
-  // threads the step's data-parallel loops run on (core/parallel.hpp: any count gives the same
-  // result); 1 by default
-  void set_threads(int threads) { threads_ = threads < 1 ? 1 : threads; }
-  int threads() const { return threads_; }
+  // threads the step's data-parallel loops may run on (core/parallel.hpp: any count gives the
+  // same result); 1 by default. A step takes one thread per rings_per_thread rings at most: on
+  // fewer, its passes are over in microseconds and a team's hand-overs cost more than they save
+  void set_threads(int threads) { requested_threads_ = threads < 1 ? 1 : threads; }
+  int threads() const { return requested_threads_; }
+  // kRingsPerThread by default; tests lower it to run small sheets on several threads
+  void set_rings_per_thread(int rings) { rings_per_thread_ = rings < 1 ? 1 : rings; }
+  int step_threads() const { return threads_; }  // the threads the last step (or reset) took
   // the banded sweeps' pairs and the per-ring passes go four at a time in lanes, AVX2 where the
   // machine has it (on by default); off takes the portable lanes anyway: a hook for tests and
   // benchmarks to compare the two builds of the kernels (the same bits)
@@ -280,6 +287,10 @@ class PlausibleSim {
   double headroom() const;
   double stretch_control_level() const { return 0.75 * headroom(); }
   void control_substeps(double dt);
+  // threads a step on `rings` rings takes (set_threads)
+  int team_threads(int rings) const {
+    return std::clamp(rings / rings_per_thread_, 1, requested_threads_);
+  }
   static constexpr int kExtraSweeps = 8;
   // one substep as its stages see it
   struct Substep {
@@ -356,7 +367,9 @@ class PlausibleSim {
   std::vector<FoundPairs> contact_found_;
   Projection projection_;  // the Newton steps' factorisation, kept between steps
   StageProfile profile_;
-  int threads_ = 1;
+  int requested_threads_ = 1;
+  int rings_per_thread_ = kRingsPerThread;
+  int threads_ = 1;  // the step's: requested_threads_, or fewer on a small sheet (team_threads)
   std::vector<int> band_split_;    // sweep_links' runs of bands, (members + 1)
   std::vector<double> band_busy_;  // s, each run's time solving, smoothed over sweeps
   bool vector_sweeps_ = true;

@@ -23,9 +23,6 @@ namespace {
 // bands a sheet is cut into (fewer where the pairs reach farther); each thread's run takes two
 // or more, so that its interior gives the neighbours time to finish the edge bands
 constexpr int kBands = 16;
-// rings a thread's run of bands is worth: on fewer, a sweep is over in microseconds and a thread
-// waiting on another costs more than it saves (on a busy machine, far more)
-constexpr int kRingsPerThread = 2048;
 
 int band_of(const std::vector<int>& first_ring, int ring) {
   return static_cast<int>(std::upper_bound(first_ring.begin(), first_ring.end(), ring) -
@@ -147,11 +144,9 @@ SweepViolation PlausibleSim::sweep_links() {
   const int count = bands.bands();
   const int stages = static_cast<int>(bands.stages.size());
   std::vector<BandProgress> progress(count);
-  const int rings = static_cast<int>(state_.position.cols());
-  // each thread's run needs two bands or more
-  const int team = parallel_loops_available()
-                       ? std::max(1, std::min({threads_, rings / kRingsPerThread, count / 2}))
-                       : 1;
+  // each thread's run needs two bands or more (the step's threads are already as many as its
+  // rings are worth)
+  const int team = parallel_loops_available() ? std::max(1, std::min(threads_, count / 2)) : 1;
   std::vector<double> busy(team, 0.0);  // s, each thread's time solving (not waiting)
   int members = 1;
   double attachments = 0.0, links = 0.0;  // m

@@ -53,6 +53,7 @@ std::uint64_t run_hash(const Scene& scene, int threads, int steps,
   const Weave weave = make_weave(scene.weave, scene.ring);
   PlausibleSim sim;
   sim.set_threads(threads);
+  sim.set_rings_per_thread(1);  // small sheets on the threads too
   sim.set_vector_sweeps(way.vector);
   sim.reset(scene, weave, settings);
   for (int s = 0; s < steps; ++s) sim.step(0.004);
@@ -150,6 +151,24 @@ TEST(PlausibleScale, ThreadCountDoesNotChangeTheResult) {
   }
 }
 
+TEST(PlausibleScale, SmallSheetStepsOnTheThreadsItsRingsAreWorth) {
+  // a thread per kRingsPerThread rings at most, never more than asked, at least one
+  const Scene scene = hanging("4in1", 12, 12);  // 144 rings
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  auto step_threads = [&](int threads, int rings_per_thread) {
+    PlausibleSim sim;
+    sim.set_threads(threads);
+    if (rings_per_thread > 0) sim.set_rings_per_thread(rings_per_thread);
+    sim.reset(scene, weave, {});
+    sim.step(0.004);
+    return sim.step_threads();
+  };
+  EXPECT_EQ(step_threads(4, 0), 1);  // the default: 144 rings are worth one thread
+  EXPECT_EQ(step_threads(4, 50), 2);
+  EXPECT_EQ(step_threads(2, 10), 2);
+  EXPECT_EQ(step_threads(1, 1), 1);
+}
+
 TEST(PlausibleScale, BandsHoldEveryConstraintOnceNextToItsBand) {
   // 48 x 48 rings, the sweeps in bands: each attachment, edge
   // and diagonal is in exactly one stage's band, its rings in that band or the next, and a stage
@@ -225,6 +244,7 @@ TEST(PlausibleScale, BandedSweepGivesTheColouredSweepsBits) {
       for (const bool vector : {true, false}) {
         PlausibleSim sim;
         sim.set_threads(threads);
+        sim.set_rings_per_thread(1);
         sim.set_vector_sweeps(vector);
         sim.reset(scene, weave, {});
         ASSERT_GE(sim.model().bands.bands(), 4);  // 3 threads get runs of bands
