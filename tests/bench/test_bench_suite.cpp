@@ -119,6 +119,43 @@ TEST(Scaling, RepeatsGoRoundTheThreadCountsSoASlowSpellFallsOnAll) {
   fs::remove_all(out);
 }
 
+TEST(Scaling, RepeatsGoRoundTheSizesSoTheirRatiosCompareLikeWithLike) {
+  // two sizes, two runs per cell: 4 x 4 on 1 and 2 threads, 8 x 8 on 1 and 2, then again (not
+  // every run of 4 x 4 before the first of 8 x 8)
+  ScalingPlan plan = scaling_plan(true, 8);
+  ASSERT_EQ(plan.sides, (std::vector<int>{4, 8}));
+  plan.plausible_repeats = 2;
+  const fs::path out = chainmail::test_temp_root() / "chainmail_test_scaling_sizes";
+  fs::remove_all(out);
+  fs::create_directories(out);
+  testing::internal::CaptureStderr();
+  run_scaling(plan, CHAINMAIL_SOURCE_DIR "/bench/scenes", {"plausible"}, out.string(), true);
+  const std::string progress = testing::internal::GetCapturedStderr();
+  std::vector<std::string> order;
+  std::stringstream lines(progress);
+  for (std::string line; std::getline(lines, line);)
+    if (line.find("bench: scaling plausible ") == 0) order.push_back(line.substr(25));
+  EXPECT_EQ(order, (std::vector<std::string>{
+                       "4 x 4 on 1 thread (run 1 of 2)", "4 x 4 on 2 threads (run 1 of 2)",
+                       "8 x 8 on 1 thread (run 1 of 2)", "8 x 8 on 2 threads (run 1 of 2)",
+                       "4 x 4 on 1 thread (run 2 of 2)", "4 x 4 on 2 threads (run 2 of 2)",
+                       "8 x 8 on 1 thread (run 2 of 2)", "8 x 8 on 2 threads (run 2 of 2)"}))
+      << progress;
+  std::ifstream csv(out / "scaling.csv");
+  std::string line;
+  int rows = 0;
+  for (std::getline(csv, line); std::getline(csv, line);) {
+    ++rows;
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    ASSERT_GT(cells.size(), 4u) << line;
+    EXPECT_EQ(cells[4], "2") << line;  // runs: two each
+  }
+  EXPECT_EQ(rows, 4);
+  fs::remove_all(out);
+}
+
 TEST(Scaling, RunsGoRoundTheBackendsAndCostsAreRelativeToOdesOnOneThread) {
   // two runs per cell, in rounds over the backends and thread counts (ode, torus_xpbd on 1 and
   // 2 threads, then again), and each cell's cost per simulated second over ODE's

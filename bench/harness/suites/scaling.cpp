@@ -46,18 +46,18 @@ struct ScalingEntry {
   int repeats = 1;
 };
 
-// every entry's cells at one size, their runs taken in rounds (1, 2, 1, 2, ... threads; plausible,
-// ode, torus_xpbd, plausible, ...), so that the speed-ups and the costs relative to one another
-// compare like with like
-std::vector<ScalingCell> measure(const Scene& scene, const std::vector<ScalingEntry>& entries,
-                                 bool progress) {
+// a TimedEntry per entry and thread count, in the order the cells are listed
+std::vector<TimedEntry> timed_entries(const std::vector<ScalingEntry>& entries) {
   std::vector<TimedEntry> timed;
   for (const ScalingEntry& entry : entries)
     for (int threads : entry.thread_counts)
       timed.push_back({entry.backend, threads, entry.repeats});
-  const std::string size =
-      std::to_string(scene.weave.cols) + " x " + std::to_string(scene.weave.cols);
-  const std::vector<TimedResult> results = run_in_rounds(scene, timed, "scaling", size, progress);
+  return timed;
+}
+
+// the cells of one size from its runs
+std::vector<ScalingCell> cells_of(const Scene& scene, const std::vector<TimedEntry>& timed,
+                                  const std::vector<TimedResult>& results) {
   std::vector<ScalingCell> cells;
   for (std::size_t k = 0; k < timed.size(); ++k) {
     ScalingCell cell;
@@ -67,7 +67,8 @@ std::vector<ScalingCell> measure(const Scene& scene, const std::vector<ScalingEn
     cell.threads = timed[k].threads;
     const TimedResult& result = results[k];
     cell.runs = static_cast<int>(result.ms_per_step.size());
-    if (cell.runs > 0) {
+    if (cell.runs == 0) continue;  // stopped (Ctrl-C) before its first run
+    {
       cell.ms_per_step = median_of(result.ms_per_step);
       cell.hash = result.last.hash;
       cell.hashes_agree = result.hashes_agree;
@@ -136,8 +137,9 @@ std::string markdown(const std::vector<ScalingCell>& cells, const ScalingPlan& p
                 "backend's default dt) for %.2g s at each size; ms per step counts `step()` only, "
                 "the median of the runs (%d for plausible, %d for every other backend whose run "
                 "is estimated to take at most %.3g s, one otherwise), on 1 and 2 threads where the "
-                "backend steps on several; the runs at a size go round the backends and thread "
-                "counts, so a slow spell of the machine falls on all of them. Cost vs ODE: cost "
+                "backend steps on several; the runs go round the sizes, and at each size round the "
+                "backends and thread counts, so a slow spell of the machine falls on all of them. "
+                "Cost vs ODE: cost "
                 "per simulated second over ODE's on one thread at that size. Same hash: every "
                 "run of the backend at that size, on any thread count, ended on the same "
                 "final-state hash.\n\n",
@@ -189,13 +191,17 @@ ScalingPlan scaling_plan(bool quick, int max_side) {
   return plan;
 }
 
-std::string run_scaling(const ScalingPlan& plan, const std::string& scenes,
+std::string run_scaling(const ScalingPlan& plan, const std::string& scenes_dir,
                         const std::vector<std::string>& backends, const std::string& out,
                         bool progress) {
-  std::vector<ScalingCell> cells;
+  // every size's runs taken in rounds together (16, 32, ... 256, then again), each size's
+  // entries in turn (1, 2 threads; plausible, ode, torus_xpbd, ...): a slow spell of the machine
+  // falls on every size and backend alike, so the ratios between sizes compare like with like
+  std::vector<Scene> scenes;
+  scenes.reserve(plan.sides.size());  // the groups below point into it
+  std::vector<SceneEntries> groups;
   for (int side : plan.sides) {
-    if (interrupted()) break;
-    const Scene scene = curtain_at(plan, scenes, side);
+    const Scene& scene = scenes.emplace_back(curtain_at(plan, scenes_dir, side));
     std::vector<ScalingEntry> entries;
     for (const std::string& name : select_backends(scene, backends)) {
       const BackendInfo& info = *find_backend(name);
@@ -207,7 +213,13 @@ std::string run_scaling(const ScalingPlan& plan, const std::string& scenes,
                          : estimate <= plan.repeat_budget_s ? plan.repeats
                                                             : 1});
     }
-    const std::vector<ScalingCell> measured = measure(scene, entries, progress);
+    groups.push_back(
+        {&scene, std::to_string(side) + " x " + std::to_string(side), timed_entries(entries)});
+  }
+  const std::vector<std::vector<TimedResult>> results = run_in_rounds(groups, "scaling", progress);
+  std::vector<ScalingCell> cells;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    const std::vector<ScalingCell> measured = cells_of(scenes[g], groups[g].entries, results[g]);
     cells.insert(cells.end(), measured.begin(), measured.end());
   }
   write_csv(cells, out + "/scaling.csv");

@@ -32,6 +32,19 @@ std::vector<TimedResult> run_in_rounds(const Scene& scene, const std::vector<Tim
                                        const std::string& kind, const std::string& label,
                                        bool progress);
 
+// the entries of one scene, for run_in_rounds over several
+struct SceneEntries {
+  const Scene* scene = nullptr;
+  std::string label;
+  std::vector<TimedEntry> entries;
+};
+
+// the same over several scenes: each round takes every scene's entries in turn, so that a slow
+// spell falls on every scene alike as well (the scaling table's ratios between sizes); a result
+// list per scene, in the entries' order
+std::vector<std::vector<TimedResult>> run_in_rounds(const std::vector<SceneEntries>& scenes,
+                                                    const std::string& kind, bool progress);
+
 // the median of a non-empty list (the upper one of an even count), 0 for an empty one
 double median_of(std::vector<double> values);
 
