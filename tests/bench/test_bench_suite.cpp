@@ -87,73 +87,70 @@ TEST(Scaling, BackendsThatStepOnSeveralThreadsGetARowPerThreadCount) {
   fs::remove_all(out);
 }
 
-TEST(Scaling, RepeatsGoRoundTheThreadCountsSoASlowSpellFallsOnAll) {
-  // two runs per cell: 1 thread, 2 threads, 1 thread, 2 threads (not 1, 1, 2, 2), each cell the
-  // median of its own two
-  ScalingPlan plan = scaling_plan(true, 4);
+// plausible's quick scaling plan up to max_side with two runs per cell: its progress lines
+// (after "bench: scaling plausible ") in order, and its CSV rows split into cells
+struct ScalingRounds {
+  std::vector<std::string> order;
+  std::vector<std::vector<std::string>> rows;
+  std::string progress;
+};
+ScalingRounds plausible_rounds(int max_side, const std::string& folder) {
+  ScalingPlan plan = scaling_plan(true, max_side);
   plan.plausible_repeats = 2;
-  const fs::path out = chainmail::test_temp_root() / "chainmail_test_scaling_rounds";
+  const fs::path out = chainmail::test_temp_root() / folder;
   fs::remove_all(out);
   fs::create_directories(out);
   testing::internal::CaptureStderr();
   run_scaling(plan, CHAINMAIL_SOURCE_DIR "/bench/scenes", {"plausible"}, out.string(), true);
-  const std::string progress = testing::internal::GetCapturedStderr();
-  std::vector<std::string> order;
-  std::stringstream lines(progress);
+  ScalingRounds rounds;
+  rounds.progress = testing::internal::GetCapturedStderr();
+  std::stringstream lines(rounds.progress);
+  const std::string prefix = "bench: scaling plausible ";
   for (std::string line; std::getline(lines, line);)
-    if (line.find("bench: scaling plausible 4 x 4") == 0) order.push_back(line.substr(31));
-  EXPECT_EQ(order,
-            (std::vector<std::string>{"on 1 thread (run 1 of 2)", "on 2 threads (run 1 of 2)",
-                                      "on 1 thread (run 2 of 2)", "on 2 threads (run 2 of 2)"}))
-      << progress;
+    if (line.find(prefix) == 0) rounds.order.push_back(line.substr(prefix.size()));
   std::ifstream csv(out / "scaling.csv");
   std::string line;
-  std::getline(csv, line);
-  int rows = 0;
-  while (std::getline(csv, line)) {
-    ++rows;
-    EXPECT_EQ(line.find("plausible,4,16,"), 0u) << line;
-    EXPECT_NE(line.find(",2,"), std::string::npos) << line;  // runs
+  for (std::getline(csv, line); std::getline(csv, line);) {
+    std::vector<std::string>& cells = rounds.rows.emplace_back();
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
   }
-  EXPECT_EQ(rows, 2);
   fs::remove_all(out);
+  return rounds;
+}
+
+TEST(Scaling, RepeatsGoRoundTheThreadCountsSoASlowSpellFallsOnAll) {
+  // two runs per cell: 1 thread, 2 threads, 1 thread, 2 threads (not 1, 1, 2, 2), each cell the
+  // median of its own two
+  const ScalingRounds rounds = plausible_rounds(4, "chainmail_test_scaling_rounds");
+  EXPECT_EQ(rounds.order, (std::vector<std::string>{
+                              "4 x 4 on 1 thread (run 1 of 2)", "4 x 4 on 2 threads (run 1 of 2)",
+                              "4 x 4 on 1 thread (run 2 of 2)", "4 x 4 on 2 threads (run 2 of 2)"}))
+      << rounds.progress;
+  ASSERT_EQ(rounds.rows.size(), 2u);
+  for (const std::vector<std::string>& cells : rounds.rows) {
+    ASSERT_GT(cells.size(), 4u);
+    EXPECT_EQ(cells[1], "4");
+    EXPECT_EQ(cells[4], "2");  // runs
+  }
 }
 
 TEST(Scaling, RepeatsGoRoundTheSizesSoTheirRatiosCompareLikeWithLike) {
   // two sizes, two runs per cell: 4 x 4 on 1 and 2 threads, 8 x 8 on 1 and 2, then again (not
   // every run of 4 x 4 before the first of 8 x 8)
-  ScalingPlan plan = scaling_plan(true, 8);
-  ASSERT_EQ(plan.sides, (std::vector<int>{4, 8}));
-  plan.plausible_repeats = 2;
-  const fs::path out = chainmail::test_temp_root() / "chainmail_test_scaling_sizes";
-  fs::remove_all(out);
-  fs::create_directories(out);
-  testing::internal::CaptureStderr();
-  run_scaling(plan, CHAINMAIL_SOURCE_DIR "/bench/scenes", {"plausible"}, out.string(), true);
-  const std::string progress = testing::internal::GetCapturedStderr();
-  std::vector<std::string> order;
-  std::stringstream lines(progress);
-  for (std::string line; std::getline(lines, line);)
-    if (line.find("bench: scaling plausible ") == 0) order.push_back(line.substr(25));
-  EXPECT_EQ(order, (std::vector<std::string>{
-                       "4 x 4 on 1 thread (run 1 of 2)", "4 x 4 on 2 threads (run 1 of 2)",
-                       "8 x 8 on 1 thread (run 1 of 2)", "8 x 8 on 2 threads (run 1 of 2)",
-                       "4 x 4 on 1 thread (run 2 of 2)", "4 x 4 on 2 threads (run 2 of 2)",
-                       "8 x 8 on 1 thread (run 2 of 2)", "8 x 8 on 2 threads (run 2 of 2)"}))
-      << progress;
-  std::ifstream csv(out / "scaling.csv");
-  std::string line;
-  int rows = 0;
-  for (std::getline(csv, line); std::getline(csv, line);) {
-    ++rows;
-    std::vector<std::string> cells;
-    std::stringstream row(line);
-    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
-    ASSERT_GT(cells.size(), 4u) << line;
-    EXPECT_EQ(cells[4], "2") << line;  // runs: two each
+  ASSERT_EQ(scaling_plan(true, 8).sides, (std::vector<int>{4, 8}));
+  const ScalingRounds rounds = plausible_rounds(8, "chainmail_test_scaling_sizes");
+  EXPECT_EQ(rounds.order, (std::vector<std::string>{
+                              "4 x 4 on 1 thread (run 1 of 2)", "4 x 4 on 2 threads (run 1 of 2)",
+                              "8 x 8 on 1 thread (run 1 of 2)", "8 x 8 on 2 threads (run 1 of 2)",
+                              "4 x 4 on 1 thread (run 2 of 2)", "4 x 4 on 2 threads (run 2 of 2)",
+                              "8 x 8 on 1 thread (run 2 of 2)", "8 x 8 on 2 threads (run 2 of 2)"}))
+      << rounds.progress;
+  ASSERT_EQ(rounds.rows.size(), 4u);
+  for (const std::vector<std::string>& cells : rounds.rows) {
+    ASSERT_GT(cells.size(), 4u);
+    EXPECT_EQ(cells[4], "2");  // runs: two each
   }
-  EXPECT_EQ(rows, 4);
-  fs::remove_all(out);
 }
 
 TEST(Scaling, RunsGoRoundTheBackendsAndCostsAreRelativeToOdesOnOneThread) {
