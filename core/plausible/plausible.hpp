@@ -309,8 +309,6 @@ class PlausibleSim {
   bool solves_contacts() const;
   // Newton steps on the edges and colliders until the largest violation is below tolerance, m;
   // none where it is below trigger to begin with
-  // Newton steps on the edges and colliders until the largest violation is below tolerance, m;
-  // none where it is below trigger to begin with
   void solve_together(double tolerance, double trigger);
   double newton_trigger() const;  // m, the violation past which the Newton steps run
   // the carried edges swept again (kCarriedPasses at most), tolerance in m

@@ -89,20 +89,13 @@ void PlausibleSim::hold_carried(double tolerance) {
   // and jitters. More sweeps of that way alone, from the heavy ring up, until one meets no edge
   // past the tolerance
   auto scope = profile_.scope("carried");
-  Positions& p = state_.position;
-  const std::vector<double>& w = model_.inverse_mass;
+  double* const x = state_.position.data();            // (3 n) m
+  const double* const w = model_.inverse_mass.data();  // (n) 1/kg
   const std::vector<EdgeConstraint>& edges = model_.carried;
   for (int pass = 0; pass < kCarriedPasses; ++pass) {
     double worst = 0.0;  // m
-    for (auto e = edges.rbegin(); e != edges.rend(); ++e) {
-      Vec3 move_a, move_b;
-      const double violation = solve_edge_constraint(p.col(e->a), w[e->a], p.col(e->b), w[e->b],
-                                                     e->min_length, e->max_length, move_a, move_b);
-      if (violation <= 0.0) continue;
-      p.col(e->a) += move_a;
-      p.col(e->b) += move_b;
-      worst = std::max(worst, violation);
-    }
+    for (auto e = edges.rbegin(); e != edges.rend(); ++e)
+      worst = std::max(worst, sweep_pair(x, w, *e));
     if (worst <= tolerance) return;
   }
 }

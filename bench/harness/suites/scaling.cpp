@@ -68,15 +68,13 @@ std::vector<ScalingCell> cells_of(const Scene& scene, const std::vector<TimedEnt
     const TimedResult& result = results[k];
     cell.runs = static_cast<int>(result.ms_per_step.size());
     if (cell.runs == 0) continue;  // stopped (Ctrl-C) before its first run
-    {
-      cell.ms_per_step = median_of(result.ms_per_step);
-      cell.hash = result.last.hash;
-      cell.hashes_agree = result.hashes_agree;
-      cell.steps = result.last.steps;
-      cell.dt = result.last.dt;
-      cell.max_stretch = result.last.peak_stretch;
-      cell.verdict = to_string(result.last.verdict);
-    }
+    cell.ms_per_step = median_of(result.ms_per_step);
+    cell.hash = result.last.hash;
+    cell.hashes_agree = result.hashes_agree;
+    cell.steps = result.last.steps;
+    cell.dt = result.last.dt;
+    cell.max_stretch = result.last.peak_stretch;
+    cell.verdict = to_string(result.last.verdict);
     cells.push_back(cell);
   }
   return cells;
