@@ -180,7 +180,7 @@ struct PlausibleState {
   int sweeps = 0;
   int newton_steps = 0;
   int substeps = 0;        // automatic substeps: what the stretch control gives the next step
-  int speed_substeps = 1;  // automatic substeps: what the rings' speed asks of the next step
+  int speed_substeps = 1;  // automatic substeps: what the rings' speed asks of the step
   // m, the links' largest stretch the step's substeps met in their scheduled sweeps (extra sweeps
   // past iterations not counted): what the stretch control reads
   double scheduled_stretch = 0.0;
@@ -280,13 +280,14 @@ class PlausibleSim {
   // automatic substeps: the links' stretch the step's scheduled sweeps met sets the next step's
   // count (more at once past the control level, fewer toward the target, an eighth a step), a
   // link met past the control level takes up to kExtraSweeps sweeps at once in its substep; the
-  // fastest ring's move in the next step sets a floor
+  // fastest ring's move in the step sets a floor (floor_substeps_by_speed, as the step begins)
   bool controls_substeps() const { return model_.settings.substeps == 0; }
   // the way from the longest link to a link at the inner diameter, of the longest link (at least
   // 1 %); the control acts at three quarters of it and settles at kStretchTarget
   double headroom() const;
   double stretch_control_level() const { return 0.75 * headroom(); }
   void control_substeps(double dt);
+  void floor_substeps_by_speed(double dt);
   // threads a step on `rings` rings takes (set_threads)
   int team_threads(int rings) const {
     return std::clamp(rings / rings_per_thread_, 1, requested_threads_);

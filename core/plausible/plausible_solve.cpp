@@ -100,6 +100,15 @@ void PlausibleSim::hold_carried(double tolerance) {
   }
 }
 
+double PlausibleSim::max_over_extension() const {
+  double worst = 0.0;
+  for (const EdgeConstraint& e : model_.edges) {
+    const double length = (state_.position.col(e.a) - state_.position.col(e.b)).norm();
+    worst = std::max(worst, (length - e.max_length) / e.max_length);
+  }
+  return worst;
+}
+
 double PlausibleSim::newton_trigger() const {
   // newton_level of the way from the longest link to a link at the inner diameter: at 1, a link
   // would otherwise end the substep longer than real rings allow (a chain's links have only the
