@@ -6,6 +6,8 @@ namespace {
 // relative compliance on the diagonal: rows that contradict each other (a ring held by two
 // colliders at a corner) get large but finite multipliers
 constexpr double kRegularisation = 1e-6;
+// solves that may release rows before the last one
+constexpr int kReleaseRounds = 4;
 
 }  // namespace
 
@@ -62,6 +64,8 @@ ProjectionResult Projection::project(const std::vector<ProjectionRow>& rows,
                                      const std::vector<double>& inverse_mass, Positions& position) {
   ProjectionResult result;
   const int m = static_cast<int>(rows.size());
+  result.solved = m == 0;  // nothing to solve, nothing moves (and no pattern to factorise)
+  if (m == 0) return result;
   by_ring_.resize(inverse_mass.size());
   for (auto& list : by_ring_) list.clear();
   for (int k = 0; k < m; ++k) {
@@ -71,9 +75,12 @@ ProjectionResult Projection::project(const std::vector<ProjectionRow>& rows,
   }
   std::vector<char> active(m, 1);
   Eigen::VectorXd mu;
-  // a row may only push (mu <= 0); one at its bound that would pull is released, then solve again
-  for (int round = 0; round < 4; ++round) {
+  // a row may only push (mu <= 0); one at its bound that would pull is released and the rest
+  // solved again, kReleaseRounds times at most: the multipliers applied are always those of a
+  // solve of exactly the rows applied
+  for (int round = 0;; ++round) {
     if (!solve(rows, active, inverse_mass, mu)) return result;
+    if (round == kReleaseRounds) break;
     int released = 0;
     for (int k = 0; k < m; ++k) {
       if (active[k] && mu[k] > 0.0 && rows[k].violation <= 0.0) active[k] = 0, ++released;
