@@ -270,23 +270,29 @@ TEST(PlausiblePhysics, DrapedSheetAtRestTakesTheSubstepsItsLinksNeed) {
   EXPECT_LE(sim.max_over_extension(), 0.75 * headroom);
 }
 
-TEST(PlausiblePhysics, HeavyRingHangingFromTheSheetComesToRest) {
-  // the stability suite's heavy_weight (a ring 100 times heavier at the bottom of a 6 x 6
-  // curtain) at the default dt: with its way to the pins swept again it comes to rest, the
-  // kinetic energy left after a second under a thousandth of the potential energy the sheet gave
-  // up (the sweeps alone kept about a hundredth moving for seconds)
-  const Scene scene =
-      load_scene_file(CHAINMAIL_SOURCE_DIR "/bench/scenes/stability/heavy_weight.json");
-  const Weave weave = make_weave(scene.weave, scene.ring);
+// the stability suite's heavy_weight: a ring 100 times heavier at the bottom of a 6 x 6 curtain
+struct HeavyWeight {
+  Scene scene = load_scene_file(CHAINMAIL_SOURCE_DIR "/bench/scenes/stability/heavy_weight.json");
+  Weave weave = make_weave(scene.weave, scene.ring);
   PlausibleSim sim;
-  sim.reset(scene, weave, PlausibleSettings{});
-  ASSERT_FALSE(sim.model().carried.empty());
-  auto potential = [&] {
+  HeavyWeight() { sim.reset(scene, weave, PlausibleSettings{}); }
+  double potential() const {
     double e = 0.0;  // J
     for (int i = 0; i < weave.size(); ++i)
       e -= sim.model().mass[i] * scene.gravity.dot(sim.state().position.col(i));
     return e;
-  };
+  }
+};
+
+TEST(PlausiblePhysics, HeavyRingHangingFromTheSheetComesToRest) {
+  // heavy_weight at the default dt: with its way to the pins swept again it comes to rest, the
+  // kinetic energy left after a second under a thousandth of the potential energy the sheet gave
+  // up (the sweeps alone kept about a hundredth moving for seconds)
+  HeavyWeight heavy;
+  const Scene& scene = heavy.scene;
+  PlausibleSim& sim = heavy.sim;
+  ASSERT_FALSE(sim.model().carried.empty());
+  auto potential = [&] { return heavy.potential(); };
   const double start = potential(), dt = 0.004;
   double most_late = 0.0;  // J, the most kinetic energy over the last 0.2 s
   for (int s = 0; s < 250; ++s) {
@@ -307,17 +313,10 @@ TEST(PlausiblePhysics, HeavyRingUnderASmallSheetAtTheLargestStepComesToRest) {
   // gravity gave it still moving (the harness's settled). The first step takes the substeps its
   // speed asks for (gravity alone moves a ring a dozen inner diameters in it): with the four it
   // took before, the heavy ring was thrown into a swing that ended the run with 2.7 % moving
-  const Scene scene =
-      load_scene_file(CHAINMAIL_SOURCE_DIR "/bench/scenes/stability/heavy_weight.json");
-  const Weave weave = make_weave(scene.weave, scene.ring);
-  PlausibleSim sim;
-  sim.reset(scene, weave, PlausibleSettings{});
-  auto potential = [&] {
-    double e = 0.0;  // J
-    for (int i = 0; i < weave.size(); ++i)
-      e -= sim.model().mass[i] * scene.gravity.dot(sim.state().position.col(i));
-    return e;
-  };
+  HeavyWeight heavy;
+  const Scene& scene = heavy.scene;
+  PlausibleSim& sim = heavy.sim;
+  auto potential = [&] { return heavy.potential(); };
   const double start = potential(), dt = 0.1;
   sim.step(dt);
   const int limit_moves =
