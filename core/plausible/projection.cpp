@@ -64,8 +64,10 @@ ProjectionResult Projection::project(const std::vector<ProjectionRow>& rows,
                                      const std::vector<double>& inverse_mass, Positions& position) {
   ProjectionResult result;
   const int m = static_cast<int>(rows.size());
-  result.solved = m == 0;  // nothing to solve, nothing moves (and no pattern to factorise)
-  if (m == 0) return result;
+  if (m == 0) {  // nothing to solve, nothing moves (and no pattern to factorise)
+    result.solved = true;
+    return result;
+  }
   by_ring_.resize(inverse_mass.size());
   for (auto& list : by_ring_) list.clear();
   for (int k = 0; k < m; ++k) {

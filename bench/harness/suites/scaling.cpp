@@ -137,8 +137,8 @@ std::string markdown(const std::vector<ScalingCell>& cells, const ScalingPlan& p
                 "is estimated to take at most %.3g s, one otherwise), on 1 and 2 threads where the "
                 "backend steps on several; the runs go round the sizes, and at each size round the "
                 "backends and thread counts, so a slow spell of the machine falls on all of them. "
-                "Cost vs ODE: cost "
-                "per simulated second over ODE's on one thread at that size. Same hash: every "
+                "Cost vs ODE: cost per simulated second over ODE's on one thread at that size. "
+                "Same hash: every "
                 "run of the backend at that size, on any thread count, ended on the same "
                 "final-state hash.\n\n",
                 plan.duration, plan.plausible_repeats, plan.repeats, plan.repeat_budget_s);
@@ -189,6 +189,23 @@ ScalingPlan scaling_plan(bool quick, int max_side) {
   return plan;
 }
 
+// the backends' entries at one size: plausible always, the others within the plan's budget
+std::vector<ScalingEntry> scaling_entries(const ScalingPlan& plan, const Scene& scene,
+                                          const std::vector<std::string>& backends) {
+  std::vector<ScalingEntry> entries;
+  for (const std::string& name : select_backends(scene, backends)) {
+    const BackendInfo& info = *find_backend(name);
+    const bool plausible = name == "plausible";
+    const double estimate = estimated_seconds(info, scene, resolve_knobs(scene, info).at("dt"));
+    if (!plausible && estimate > plan.budget_s) continue;
+    entries.push_back({name, info.multithreaded ? plan.threads : std::vector<int>{1},
+                       plausible                          ? plan.plausible_repeats
+                       : estimate <= plan.repeat_budget_s ? plan.repeats
+                                                          : 1});
+  }
+  return entries;
+}
+
 std::string run_scaling(const ScalingPlan& plan, const std::string& scenes_dir,
                         const std::vector<std::string>& backends, const std::string& out,
                         bool progress) {
@@ -196,23 +213,12 @@ std::string run_scaling(const ScalingPlan& plan, const std::string& scenes_dir,
   // entries in turn (1, 2 threads; plausible, ode, torus_xpbd, ...): a slow spell of the machine
   // falls on every size and backend alike, so the ratios between sizes compare like with like
   std::vector<Scene> scenes;
-  scenes.reserve(plan.sides.size());  // the groups below point into it
+  for (int side : plan.sides) scenes.push_back(curtain_at(plan, scenes_dir, side));
   std::vector<SceneEntries> groups;
-  for (int side : plan.sides) {
-    const Scene& scene = scenes.emplace_back(curtain_at(plan, scenes_dir, side));
-    std::vector<ScalingEntry> entries;
-    for (const std::string& name : select_backends(scene, backends)) {
-      const BackendInfo& info = *find_backend(name);
-      const bool plausible = name == "plausible";
-      const double estimate = estimated_seconds(info, scene, resolve_knobs(scene, info).at("dt"));
-      if (!plausible && estimate > plan.budget_s) continue;
-      entries.push_back({name, info.multithreaded ? plan.threads : std::vector<int>{1},
-                         plausible                          ? plan.plausible_repeats
-                         : estimate <= plan.repeat_budget_s ? plan.repeats
-                                                            : 1});
-    }
+  for (const Scene& scene : scenes) {
+    const std::string side = std::to_string(scene.weave.cols);
     groups.push_back(
-        {&scene, std::to_string(side) + " x " + std::to_string(side), timed_entries(entries)});
+        {&scene, side + " x " + side, timed_entries(scaling_entries(plan, scene, backends))});
   }
   const std::vector<std::vector<TimedResult>> results = run_in_rounds(groups, "scaling", progress);
   std::vector<ScalingCell> cells;

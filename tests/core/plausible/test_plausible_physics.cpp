@@ -292,14 +292,13 @@ TEST(PlausiblePhysics, HeavyRingHangingFromTheSheetComesToRest) {
   const Scene& scene = heavy.scene;
   PlausibleSim& sim = heavy.sim;
   ASSERT_FALSE(sim.model().carried.empty());
-  auto potential = [&] { return heavy.potential(); };
-  const double start = potential(), dt = 0.004;
+  const double start = heavy.potential(), dt = 0.004;
   double most_late = 0.0;  // J, the most kinetic energy over the last 0.2 s
   for (int s = 0; s < 250; ++s) {
     sim.step(dt);
     if (s >= 200) most_late = std::max(most_late, kinetic_energy(sim));
   }
-  const double released = start - potential();  // J
+  const double released = start - heavy.potential();  // J
   std::printf("heavy weight: %.3g J released, at most %.3g J moving after 0.8 s\n", released,
               most_late);
   EXPECT_GT(released, 0.0);
@@ -316,8 +315,7 @@ TEST(PlausiblePhysics, HeavyRingUnderASmallSheetAtTheLargestStepComesToRest) {
   HeavyWeight heavy;
   const Scene& scene = heavy.scene;
   PlausibleSim& sim = heavy.sim;
-  auto potential = [&] { return heavy.potential(); };
-  const double start = potential(), dt = 0.1;
+  const double start = heavy.potential(), dt = 0.1;
   sim.step(dt);
   const int limit_moves =
       static_cast<int>(std::ceil(scene.gravity.norm() * dt * dt /
@@ -325,7 +323,7 @@ TEST(PlausiblePhysics, HeavyRingUnderASmallSheetAtTheLargestStepComesToRest) {
   EXPECT_EQ(sim.state().speed_substeps, std::min(limit_moves, PlausibleSim::kMaxSubsteps));
   sim.step(dt);
   sim.step(dt);
-  const double given = start - potential(), moving = kinetic_energy(sim);  // J
+  const double given = start - heavy.potential(), moving = kinetic_energy(sim);  // J
   std::printf("heavy weight at dt 0.1 s: %.3g J given, %.3g J moving after 0.3 s\n", given, moving);
   EXPECT_GT(given, 0.0);
   EXPECT_LE(moving, 0.01 * given);
