@@ -1,5 +1,7 @@
 #include "core/geometry.hpp"
 
+#include "core/circle_contact.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -61,21 +63,43 @@ double refined_minimum(const Circle& first, const CircleParam& b, const double* 
   return best;
 }
 
-// samples for the torus tests: coarse on purpose, the refinement makes them exact
-constexpr int kNearSamples = 32;
-
-// the cheap part of the torus tests: fills value[kNearSamples] with sampled distances and returns
-// false when the circles certainly stay at least `limit` apart. A sampled minimum can only be
-// refined downwards by the distance function's Lipschitz bound (r2 per radian) times half a
-// sample step, so samples all above limit + that slack need no refinement
-bool sample_near(const Circle& first, const CircleParam& b, double limit, double* value) {
+// the torus tests' cheap part on the closed-form distance of core/circle_contact: fills f with the
+// squared distance at CirclePairDistance's sample angles and returns false when the circles
+// certainly stay at least `limit` apart. The distance moves by at most r2 per radian of the second
+// circle's angle, so a minimum lies at most r2 times half a sample step below the lowest sample
+bool sample_near(const CirclePairDistance& pair, const Circle& first, const Circle& second,
+                 double limit, double* f) {
   // centre circles farther apart than the sum of radii plus the limit cannot come that close
-  const double reach = first.radius + b.radius + limit;
-  if ((first.centre - b.centre).squaredNorm() > reach * reach) return false;
-  const double step = 2.0 * std::numbers::pi / kNearSamples;
-  for (int k = 0; k < kNearSamples; ++k) value[k] = point_circle_distance(b.at(k * step), first);
-  const double lowest = *std::min_element(value, value + kNearSamples);
-  return lowest <= limit + b.radius * 0.5 * step;
+  const double reach = first.radius + second.radius + limit;
+  if ((first.centre - second.centre).squaredNorm() > reach * reach) return false;
+  pair.sample(f);
+  const double lowest = *std::min_element(f, f + CirclePairDistance::kSamples);
+  const double slack = second.radius * std::numbers::pi / CirclePairDistance::kSamples;
+  return std::sqrt(lowest) <= limit + slack;
+}
+
+// the smallest distance Newton's method reaches from the sampled local minima within `limit` plus
+// the slack (a minimum is within half a sample step of a sample, at most the slack above it) and
+// from the samples beside them: two minima a sample step apart (a taut link's wire meets the other
+// ring twice, close together) show as one sampled minimum, and the deeper may be the other one
+double refined_below(const CirclePairDistance& pair, const Circle& second, double limit,
+                     const double* f) {
+  constexpr int count = CirclePairDistance::kSamples;
+  const CirclePairDistance::Samples& angle = CirclePairDistance::samples();
+  const double slack = second.radius * std::numbers::pi / count;
+  const double reach = (limit + slack) * (limit + slack);  // m^2
+  double best = std::sqrt(*std::min_element(f, f + count));
+  bool refined[count] = {};
+  for (int k = 0; k < count; ++k) {
+    const int before = (k + count - 1) % count, after = (k + 1) % count;
+    if (f[k] > f[before] || f[k] > f[after]) continue;
+    for (const int start : {before, k, after}) {
+      if (refined[start] || f[start] > reach) continue;
+      refined[start] = true;
+      best = std::min(best, pair.refine(angle.c[start], angle.s[start], 40, 1e-13).distance);
+    }
+  }
+  return best;
 }
 
 // tolerance of the linking test, m: heights within it of the first circle's plane count as on the
@@ -114,10 +138,12 @@ double circle_circle_distance(const Circle& first, const Circle& second, int sam
 }
 
 std::optional<double> circles_closer_than(const Circle& first, const Circle& second, double limit) {
-  const CircleParam b = parametrise(second);
-  double value[kNearSamples];  // m
-  if (!sample_near(first, b, limit, value)) return std::nullopt;
-  const double distance = refined_minimum(first, b, value, kNearSamples);
+  const CircleFrame a = circle_frame(first.centre, first.normal, first.radius);
+  const CircleFrame b = circle_frame(second.centre, second.normal, second.radius);
+  const CirclePairDistance pair(a, b);
+  double f[CirclePairDistance::kSamples];  // m^2
+  if (!sample_near(pair, first, second, limit, f)) return std::nullopt;
+  const double distance = refined_below(pair, second, limit, f);
   if (distance < limit) return distance;
   return std::nullopt;
 }
@@ -125,12 +151,14 @@ std::optional<double> circles_closer_than(const Circle& first, const Circle& sec
 bool tori_interpenetrate(const Circle& first, const Circle& second, double wire_radius,
                          double tolerance) {
   const double limit = 2.0 * wire_radius - tolerance;
-  const CircleParam b = parametrise(second);
-  double value[kNearSamples];  // m
-  if (!sample_near(first, b, limit, value)) return false;
+  const CircleFrame a = circle_frame(first.centre, first.normal, first.radius);
+  const CircleFrame b = circle_frame(second.centre, second.normal, second.radius);
+  const CirclePairDistance pair(a, b);
+  double f[CirclePairDistance::kSamples];  // m^2
+  if (!sample_near(pair, first, second, limit, f)) return false;
   // a sample below the limit decides without refining
-  if (*std::min_element(value, value + kNearSamples) < limit) return true;
-  return refined_minimum(first, b, value, kNearSamples) < limit;
+  if (std::sqrt(*std::min_element(f, f + CirclePairDistance::kSamples)) < limit) return true;
+  return refined_below(pair, second, limit, f) < limit;
 }
 
 int disk_crossings(const Circle& first, const Circle& second) {

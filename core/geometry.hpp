@@ -19,12 +19,14 @@ double point_circle_distance(const Vec3& p, const Circle& circle);
 
 // minimum distance between two circles: sample one circle, evaluate the closed-form
 // point-to-circle distance, then refine every sampled local minimum by golden-section search.
-// accurate to about 1e-9 relative for the default sample count.
+// accurate to about 1e-9 relative for the default sample count. Slow: the tests' reference for
+// the closed-form path (core/circle_contact), and the swivel fit's (once per model)
 double circle_circle_distance(const Circle& first, const Circle& second, int samples = 64);
 
 // the minimum distance between two circles when it is below `limit`, else nothing; cheap for
-// the common far case (centre distance or coarse samples decide), refined like
-// circle_circle_distance otherwise. Torus depth of equal tube radius a: 2a - distance
+// the common far case (centre distance or samples of core/circle_contact's closed-form distance
+// decide), the sampled minima refined by its Newton iteration otherwise. Torus depth of equal
+// tube radius a: 2a - distance
 std::optional<double> circles_closer_than(const Circle& first, const Circle& second, double limit);
 
 // two tori of equal tube radius a interpenetrate iff their centre circles come closer than 2a;

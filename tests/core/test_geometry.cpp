@@ -195,6 +195,27 @@ TEST(Interpenetration, CloserThanGivesExactDistances) {
                                    circle(Vec3(1, 0, 0), Vec3::UnitY(), c), 2.0 * a));
 }
 
+TEST(Interpenetration, CloserThanMatchesTheReference) {
+  // random ring-sized pairs within reach of each other, the limit on either side of the
+  // reference distance: the closed-form path finds the same minimum, or rightly none
+  const double c = 0.0048;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int found = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Circle p = circle(c * Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), c);
+    const Circle q = circle(c * Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), c);
+    const double expected = reference_distance(p, q);
+    if (expected < 1e-3 * c) continue;  // crossing circles: no relative accuracy to speak of
+    const std::optional<double> below = circles_closer_than(p, q, 1.001 * expected);
+    ASSERT_TRUE(below.has_value()) << trial;
+    EXPECT_NEAR(*below, expected, 1e-9 * expected) << trial;
+    EXPECT_FALSE(circles_closer_than(p, q, 0.999 * expected).has_value()) << trial;
+    ++found;
+  }
+  EXPECT_GT(found, 200);
+}
+
 TEST(Linking, HandCases) {
   const Circle a = circle(Vec3::Zero(), Vec3::UnitY(), 1.0);
   // perpendicular through the hole: linked
