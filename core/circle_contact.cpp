@@ -206,9 +206,16 @@ int local_closest_points(const CircleFrame& first, const CircleFrame& second, Cl
     }
     if (n < static_cast<int>(found.size())) found[n++] = p;
   };
+  // from the samples beside each sampled minimum too: two minima a sample step apart (a taut
+  // link's wire meets the other ring twice, close together) show as one sampled minimum, and the
+  // deeper may be the other one
+  std::array<bool, 32> refined{};
   for (int k = 0; k < count; ++k) {
-    const double before = f[(k + count - 1) % count], after = f[(k + 1) % count];
-    if (f[k] <= before && f[k] < after) refine_from(k);
+    const int before = (k + count - 1) % count, after = (k + 1) % count;
+    if (f[k] > f[before] || f[k] >= f[after]) continue;
+    for (const int start : {k, before, after}) {
+      if (!refined[start]) refined[start] = true, refine_from(start);
+    }
   }
   if (n == 0)
     refine_from(static_cast<int>(std::min_element(f.begin(), f.begin() + count) - f.begin()));

@@ -97,7 +97,8 @@ ClosestPoints refine_closest_points(const CircleFrame& first, const CircleFrame&
 
 // the local minima of the distance, nearest first, each refined to `tolerance`: at most
 // `capacity` written to `out`, their count returned (at least 1). The samples (16 or 32 fixed
-// angles) decide which minima are found: two minima closer than a sample spacing count as one.
+// angles) decide which minima are found: each sampled minimum is refined from its sample and the
+// two beside it, so two minima a sample spacing apart are both found.
 int local_closest_points(const CircleFrame& first, const CircleFrame& second, ClosestPoints* out,
                          int capacity, int samples = 16, double tolerance = 1e-13);
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -165,6 +166,32 @@ TEST(CircleContact, CompressedLinkHasTwoMinima) {
   EXPECT_NEAR(minima[0].distance, d, 1e-12 * c);
   EXPECT_NEAR(minima[1].distance, d, 1e-12 * c);
   EXPECT_NEAR(std::abs(minima[0].first.x() - minima[1].first.x()), 2.0 * c, 1e-9 * c);
+}
+
+TEST(CircleContact, TwinMinimaASampleApartFindTheDeeperOne) {
+  // two linked rings of a taut 4-in-1 sheet (hung for 0.2 s): the wire meets the other ring at two
+  // minima within one sample step of 32, the shallower one the only sampled local minimum; the
+  // global minimum and the torus depth test must find the deeper one
+  const Circle a{Vec3(0.19515282720189817, 0.15027425026459681, 0),
+                 Vec3(0.44242388084897066, -0.014039146144667832, -0.8966961648351488),
+                 0.0048000000000000004};
+  const Circle b{Vec3(0.19185410559325378, 0.14318793082223413, 0),
+                 Vec3(-0.44242701101351756, 0.013940154073047713, -0.89669616483514891),
+                 0.0048000000000000004};
+  const CircleFrame fa = circle_frame(a.centre, a.normal, a.radius);
+  const CircleFrame fb = circle_frame(b.centre, b.normal, b.radius);
+  ClosestPoints minima[4];
+  ASSERT_GE(local_closest_points(fa, fb, minima, 4, 32), 2);
+  EXPECT_LT(minima[0].distance, minima[1].distance - 1e-7);  // apart by 2e-7 m, both found
+  const double reference = circle_circle_distance(a, b, 4096);
+  EXPECT_NEAR(closest_points(fa, fb).distance, reference, 1e-12 * reference);
+  // a wire radius of 0.8 mm (2a = 1.6 mm) with the metrics' tolerance: interpenetrating
+  const double wire = 0.0008, tolerance = 1e-3 * wire;
+  ASSERT_LT(reference, 2.0 * wire - tolerance);
+  EXPECT_TRUE(tori_interpenetrate(a, b, wire, tolerance));
+  const std::optional<double> below = circles_closer_than(a, b, 2.0 * wire - tolerance);
+  ASSERT_TRUE(below.has_value());
+  EXPECT_NEAR(*below, reference, 1e-12 * reference);
 }
 
 TEST(CircleContact, WarmStartFollowsAMovingPairInAFewSteps) {
