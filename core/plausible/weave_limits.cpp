@@ -121,20 +121,10 @@ std::vector<DiagonalPair> knight_pairs(const Weave& weave, const WeaveLimits& li
 std::vector<DiagonalPair> diagonal_pairs(const Weave& weave, const WeaveLimits& limits) {
   std::vector<DiagonalPair> pairs;
   if (weave.type != WeaveType::four_in_one) return pairs;
-  // (i, j) -> ring over the grid's bounding box
-  int rows_i = 0, cols_j = 0;
-  for (const auto& g : weave.grid) {
-    rows_i = std::max(rows_i, g[0] + 1);
-    cols_j = std::max(cols_j, g[1] + 1);
-  }
-  std::vector<int> index(static_cast<size_t>(rows_i) * cols_j, -1);
-  for (int k = 0; k < weave.size(); ++k) index[weave.grid[k][0] * cols_j + weave.grid[k][1]] = k;
-  auto at = [&](int i, int j) {
-    return i < 0 || j < 0 || i >= rows_i || j >= cols_j ? -1 : index[i * cols_j + j];
-  };
+  const GridIndex grid(weave);
   for (int k = 0; k < weave.size(); ++k) {
     const auto [i, j] = weave.grid[k];
-    const int row = at(i + 1, j + 1), column = at(i + 1, j - 1);
+    const int row = grid.at(i + 1, j + 1), column = grid.at(i + 1, j - 1);
     if (row >= 0) pairs.push_back({std::min(k, row), std::max(k, row), limits.row, limits.row_max});
     if (column >= 0) {
       pairs.push_back({std::min(k, column), std::max(k, column), limits.column,
