@@ -194,8 +194,8 @@ int local_closest_points(const CircleFrame& first, const CircleFrame& second, Cl
   std::array<double, 32> f{};  // m^2, f at the samples
   for (int k = 0; k < count; ++k) f[k] = pair.squared(angle(k)[0], angle(k)[1]);
 
-  // every sampled local minimum (strictly below its next sample, so a flat f gives none), else
-  // the lowest sample; each refined, duplicates (the same minimum from two samples) dropped
+  // from every refine start (for_each_refine_start: a flat f gives none), else from the lowest
+  // sample; duplicates (the same minimum from two starts) dropped
   std::array<ClosestPoints, 16> found;
   int n = 0;
   const auto refine_from = [&](int k) {
@@ -206,17 +206,7 @@ int local_closest_points(const CircleFrame& first, const CircleFrame& second, Cl
     }
     if (n < static_cast<int>(found.size())) found[n++] = p;
   };
-  // from the samples beside each sampled minimum too: two minima a sample step apart (a taut
-  // link's wire meets the other ring twice, close together) show as one sampled minimum, and the
-  // deeper may be the other one
-  std::array<bool, 32> refined{};
-  for (int k = 0; k < count; ++k) {
-    const int before = (k + count - 1) % count, after = (k + 1) % count;
-    if (f[k] > f[before] || f[k] >= f[after]) continue;
-    for (const int start : {k, before, after}) {
-      if (!refined[start]) refined[start] = true, refine_from(start);
-    }
-  }
+  for_each_refine_start(f.data(), count, refine_from);
   if (n == 0)
     refine_from(static_cast<int>(std::min_element(f.begin(), f.begin() + count) - f.begin()));
   std::sort(found.begin(), found.begin() + n,

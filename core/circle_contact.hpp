@@ -95,10 +95,26 @@ ClosestPoints refine_closest_points(const CircleFrame& first, const CircleFrame&
                                     double cos_t, double sin_t, int max_steps = 40,
                                     double tolerance = 1e-13);
 
+// the samples of f (count of them, around the circle) to refine from: each sampled local minimum
+// (no higher than the sample before it, below the one after) and the two beside it, each once, in
+// that order; visit(k). Two minima a sample spacing apart (a taut link's wire meets the other ring
+// twice, close together) show as one sampled minimum, and the deeper may be the other one
+template <class Visit>
+void for_each_refine_start(const double* f, int count, Visit&& visit) {
+  bool started[64] = {};  // count <= 64
+  for (int k = 0; k < count; ++k) {
+    const int before = (k + count - 1) % count, after = (k + 1) % count;
+    if (f[k] > f[before] || f[k] >= f[after]) continue;
+    for (const int start : {k, before, after}) {
+      if (!started[start]) started[start] = true, visit(start);
+    }
+  }
+}
+
 // the local minima of the distance, nearest first, each refined to `tolerance`: at most
 // `capacity` written to `out`, their count returned (at least 1). The samples (16 or 32 fixed
-// angles) decide which minima are found: each sampled minimum is refined from its sample and the
-// two beside it, so two minima a sample spacing apart are both found.
+// angles) decide which minima are found, refined from the starts for_each_refine_start gives: two
+// minima a sample spacing apart are both found.
 int local_closest_points(const CircleFrame& first, const CircleFrame& second, ClosestPoints* out,
                          int capacity, int samples = 16, double tolerance = 1e-13);
 

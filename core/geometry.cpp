@@ -63,10 +63,15 @@ double refined_minimum(const Circle& first, const CircleParam& b, const double* 
   return best;
 }
 
+// the most the distance can fall between samples: it moves by at most r2 per radian of the second
+// circle's angle, so a minimum lies at most r2 times half a sample step below the nearest sample
+double sample_slack(const Circle& second) {
+  return second.radius * std::numbers::pi / CirclePairDistance::kSamples;
+}
+
 // the torus tests' cheap part on the closed-form distance of core/circle_contact: fills f with the
 // squared distance at CirclePairDistance's sample angles and returns false when the circles
-// certainly stay at least `limit` apart. The distance moves by at most r2 per radian of the second
-// circle's angle, so a minimum lies at most r2 times half a sample step below the lowest sample
+// certainly stay at least `limit` apart
 bool sample_near(const CirclePairDistance& pair, const Circle& first, const Circle& second,
                  double limit, double* f) {
   // centre circles farther apart than the sum of radii plus the limit cannot come that close
@@ -74,31 +79,21 @@ bool sample_near(const CirclePairDistance& pair, const Circle& first, const Circ
   if ((first.centre - second.centre).squaredNorm() > reach * reach) return false;
   pair.sample(f);
   const double lowest = *std::min_element(f, f + CirclePairDistance::kSamples);
-  const double slack = second.radius * std::numbers::pi / CirclePairDistance::kSamples;
-  return std::sqrt(lowest) <= limit + slack;
+  return std::sqrt(lowest) <= limit + sample_slack(second);
 }
 
-// the smallest distance Newton's method reaches from the sampled local minima within `limit` plus
-// the slack (a minimum is within half a sample step of a sample, at most the slack above it) and
-// from the samples beside them: two minima a sample step apart (a taut link's wire meets the other
-// ring twice, close together) show as one sampled minimum, and the deeper may be the other one
+// the smallest distance Newton's method reaches from the refine starts (for_each_refine_start)
+// within `limit` plus the slack of a minimum below it
 double refined_below(const CirclePairDistance& pair, const Circle& second, double limit,
                      const double* f) {
   constexpr int count = CirclePairDistance::kSamples;
   const CirclePairDistance::Samples& angle = CirclePairDistance::samples();
-  const double slack = second.radius * std::numbers::pi / count;
-  const double reach = (limit + slack) * (limit + slack);  // m^2
+  const double within = limit + sample_slack(second);
   double best = std::sqrt(*std::min_element(f, f + count));
-  bool refined[count] = {};
-  for (int k = 0; k < count; ++k) {
-    const int before = (k + count - 1) % count, after = (k + 1) % count;
-    if (f[k] > f[before] || f[k] > f[after]) continue;
-    for (const int start : {before, k, after}) {
-      if (refined[start] || f[start] > reach) continue;
-      refined[start] = true;
-      best = std::min(best, pair.refine(angle.c[start], angle.s[start], 40, 1e-13).distance);
-    }
-  }
+  for_each_refine_start(f, count, [&](int k) {
+    if (f[k] > within * within) return;
+    best = std::min(best, pair.refine(angle.c[k], angle.s[k], 40, 1e-13).distance);
+  });
   return best;
 }
 
