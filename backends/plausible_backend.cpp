@@ -124,6 +124,15 @@ void add_shape_knobs(PlausibleKnobs& t) {
           "apart come no closer (rings of one row: and no farther apart) than the ring "
           "geometry lets them (see below); off: the paper's rule, neighbours as close as the "
           "wire thickness and nothing else");
+  t.number("row_slip", &S::row_slip, 0.0, 1.0,
+           "4-in-1: rings side by side in a row pushed together slide out of the sheet toward "
+           "the faces they lean to, by this fraction of their axes across the push (0: straight "
+           "apart)")
+      .doc(
+          "4-in-1 with `compression_limits`: rings side by side in a row, pushed together to their "
+          "closest approach, are pushed apart along a way turned toward their axes by this "
+          "fraction, so they slide out of the sheet like leaning coins (see below); 0: along the "
+          "line between their centres (the default: see below for what it costs)");
   t.boolean("swivel_from_pins", &S::swivel_from_pins,
             "4-in-1: each ring swivels about the direction toward the pins it hangs from, "
             "propagated through the weave (off: one pattern for the whole sheet)")

@@ -44,6 +44,21 @@ inline double solve_attachment_constraint(const Vec3& p, const Vec3& anchor, dou
   return length - max_distance;
 }
 
+// the way a push between two rings goes when their rims slide toward their faces (rings pressed
+// together rim to rim, or leaning coins pressed together along their row): unit `normal` (a to b)
+// turned toward each ring's axis by `slip` of the axis's part across it, each axis signed by the
+// side of the normal it points to (edge on, where the distance falls neither way, the way it
+// points). A zero axis adds nothing. Unit; its dot with `normal` is at least 1 / sqrt(1 + 4 slip^2)
+inline Vec3 slide_toward_faces(const Vec3& normal, const Vec3& axis_a, const Vec3& axis_b,
+                               double slip) {
+  Vec3 side = Vec3::Zero();
+  for (const Vec3* axis : {&axis_a, &axis_b}) {
+    const double along = axis->dot(normal);
+    side += (along < 0.0 ? -1.0 : 1.0) * (*axis - along * normal);
+  }
+  return (normal + slip * side).normalized();
+}
+
 // linear repulsion between two non-neighbour rings closer than `range`: a spring of stiffness k
 // pushing them apart (paper §3, after Bridson et al.); returns the force on p0 (p1 gets minus it)
 inline Vec3 repulsion_force(const Vec3& p0, const Vec3& p1, double range, double stiffness) {

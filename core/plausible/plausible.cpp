@@ -185,10 +185,10 @@ void PlausibleSim::step(double dt) {
   state_.scheduled_stretch = 0.0;
   for (int k = 0; k < substeps; ++k) {
     const bool last = k + 1 == substeps;
-    Substep substep{dt / substeps, last ? dt : 0.0, fuse && k > 0, fuse && !last, {}};
+    Substep substep{dt / substeps, last ? dt : 0.0, fuse && k > 0, fuse && !last, k == 0, {}};
     for (const PlausibleStage stage : kSubstepStages) run_stage(stage, substep);
   }
-  Substep whole{dt, dt, false, false, {}};
+  Substep whole{dt, dt, false, false, false, {}};
   run_stage(PlausibleStage::orient, whole);
   state_.t += dt;
   if (controls_substeps()) control_substeps(dt);
@@ -222,7 +222,7 @@ void PlausibleSim::run_stage(PlausibleStage stage, Substep& substep) {
       // long-range attachments to the pins, Provot edge constraints, minimum distances between
       // non-neighbours and colliders, swept together (then Newton steps where they leave a link
       // past newton_level)
-      solve_positions();
+      solve_positions(substep.first);
       profile_.record_residual(state_.residual, model_.settings.tolerance * model_.longest_link);
       return;
     case PlausibleStage::velocity:

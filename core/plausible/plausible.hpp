@@ -91,6 +91,14 @@ struct PlausibleSettings {
   // (core/plausible/weave_limits), enforced in the sweeps; off: the paper's rule, neighbours as
   // close as the wire thickness and the sheet never compressed along both axes
   bool compression_limits = true;
+  // 4-in-1 with compression_limits: rings side by side in a row, (i +- 1, j +- 1), that a step's
+  // first prediction pushes past their closest approach (stacked like leaning coins) are pushed
+  // apart along a way turned from the centre line toward their axes by this fraction of the axes'
+  // part across it, so the row slides out of the sheet toward the faces it leans to, as rigid
+  // rings do (slide_rows, core/plausible/neighbour_frame). 0 (the default): along the centre line,
+  // and a sheet's fold has no side to take; on, a corner-hung sheet folds like the rigid ones but
+  // a sheet carrying a heavy ring no longer comes to rest (docs/backends.md)
+  double row_slip = 0.0;
   // 4-in-1: each ring's swivel hinge turns toward the pins it hangs from, the direction propagated
   // from the pins through the weave (core/pin_paths; paper §6), so a sheet hung from its corners
   // leans along the diagonals; off, or without pins: the row normal (weighted by the neighbour
@@ -139,8 +147,17 @@ struct PlausibleModel {
   // with compression_limits), kept within their bounds
   std::vector<EdgeConstraint> diagonals;  // by colour
   Colouring diagonal_colours;
-  PinPaths pin_paths;  // 4-in-1 with swivel_from_pins: the rings breadth-first from the pins
-  GridKeys grid;       // which pairs the sweeps hold (the contact list leaves them out)
+  // with row_slip: rings side by side in a row (also among the diagonals), pushed apart sliding
+  // toward their faces where a step's first prediction brings them closer than their closest
+  // approach (slide_rows)
+  std::vector<EdgeConstraint> row_pairs;  // by first ring
+  // the row pairs' rings, and the largest of their closest approaches (m): what each sweep's look
+  // for a pair pushed together reads
+  std::vector<std::array<int, 2>> row_pair_rings;
+  double row_closest = 0.0;
+  Positions rest_axes;  // (3, n) with row_slip: each ring's rest axis in its rest neighbour frame
+  PinPaths pin_paths;   // 4-in-1 with swivel_from_pins: the rings breadth-first from the pins
+  GridKeys grid;        // which pairs the sweeps hold (the contact list leaves them out)
   // the attachments, edges and diagonals in bands (core/plausible/plausible_bands.cpp)
   SweepBands bands;
   std::vector<Collider> colliders;
@@ -299,6 +316,7 @@ class PlausibleSim {
     double damp_dt = 0.0;         // s, damping's span: the step's in its last substep, else none
     bool velocity_first = false;  // integrate: the substep before left its velocity update here
     bool velocity_waits = false;  // velocity: left to the next substep's prediction
+    bool first = false;           // the step's first substep
     RingMoves moves;  // the rings' moves from the contact list's anchor, as integrate measured
   };
   void run_stage(PlausibleStage stage, Substep& substep);
@@ -306,7 +324,8 @@ class PlausibleSim {
   // with `moves` (and a contact list), also the rings' moves from the list's anchor, measured in
   // the same pass
   void integrate(const Substep& substep, RingMoves* moves = nullptr);
-  void solve_positions();
+  // slide: the step's first substep, where the row pairs slide (slide_rows) before the sweeps
+  void solve_positions(bool slide);
   bool solves_contacts() const;
   // Newton steps on the edges and colliders until the largest violation is below tolerance, m;
   // none where it is below trigger to begin with
@@ -320,6 +339,9 @@ class PlausibleSim {
   double collider_rows(double near, std::vector<ProjectionRow>& rows);
   // one sweep over the contact list's pairs; the largest violation met, m
   double solve_contacts();
+  // the row pairs closer than their closest approach pushed apart sliding toward their faces
+  // (row_slip); the largest violation met, m
+  double slide_rows();
   // shaped_contacts: the minimum distance of a pair of non-neighbours apart along unit `normal`,
   // m, and the direction a violation pushes them apart in (unit)
   double shaped_range(const RingPair& pair, const Vec3& normal) const;
@@ -364,7 +386,8 @@ class PlausibleSim {
     std::vector<RingPair> pairs;
   };
   std::vector<FoundPairs> contact_found_;
-  Projection projection_;  // the Newton steps' factorisation, kept between steps
+  std::vector<int> row_pairs_closer_;  // slide_rows: the row pairs found too close
+  Projection projection_;              // the Newton steps' factorisation, kept between steps
   StageProfile profile_;
   int requested_threads_ = 1;
   int rings_per_thread_ = kRingsPerThread;

@@ -3,11 +3,13 @@
 // (Newton steps on all of them, or Gauss-Seidel sweeps) until the largest violation is below the
 // tolerance.
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "core/colliders.hpp"
 #include "core/parallel.hpp"
 #include "core/plausible/constraints.hpp"
+#include "core/plausible/neighbour_frame.hpp"
 #include "core/plausible/plausible.hpp"
 #include "core/plausible/plausible_sweep.hpp"
 #include "core/plausible/projection.hpp"
@@ -32,7 +34,7 @@ double sweep_colours(const Colouring& colours, int threads, Solve&& solve) {
 
 }  // namespace
 
-void PlausibleSim::solve_positions() {
+void PlausibleSim::solve_positions(bool slide) {
   if (model_.settings.shock_propagation && !model_.outward.empty()) propagate_from_pins();
   const double tolerance = model_.settings.tolerance * model_.longest_link;  // m
   // Gauss-Seidel sweeps: each ends with the colliders, so a converged sweep leaves the edges
@@ -57,7 +59,13 @@ void PlausibleSim::solve_positions() {
   const double control = stretch_control_level() * model_.longest_link;  // m
   while (state_.sweeps < iterations + extra) {
     // the attachments first: the sheet-wide part of a stretch, then the edges fix the local one
-    const SweepViolation links = sweep_links();
+    // rows the step's first prediction pushed together slide out of the sheet first; the
+    // diagonals then hold every row pair along its centre line (once a step: the look for them
+    // reads every row pair, and what breaks the sheet's mirror symmetry is the way, not the amount)
+    const double slid =
+        slide && state_.sweeps == 0 && !model_.row_pairs.empty() ? slide_rows() : 0.0;
+    SweepViolation links = sweep_links();
+    links.links = std::max(links.links, slid);
     local = links.links;
     if (contacts) local = std::max(local, solve_contacts());
     if (colliders) local = std::max(local, collide());
@@ -116,6 +124,70 @@ double PlausibleSim::newton_trigger() const {
   const double tolerance = model_.settings.tolerance * model_.longest_link;  // m
   const double room = std::max(model_.ring.inner_diameter() - model_.longest_link, tolerance);
   return std::max(tolerance, model_.settings.newton_level * room);
+}
+
+double PlausibleSim::slide_rows() {
+  // rings side by side in a row pushed together past their closest approach slide along their
+  // axes, as leaning coins do (PlausibleModel::row_pairs); each axis is its rest lean turned with
+  // its neighbour frame as the substep began: read from the positions being corrected, the push
+  // would steer itself
+  Positions& p = state_.position;
+  const std::vector<EdgeConstraint>& pairs = model_.row_pairs;
+  // few rows are pushed together at once: the pairs closer than their closest approach are found
+  // first (on the threads), then pushed apart one by one in the list's order (a pair that a push
+  // before it brought together waits for the next sweep)
+  const int count = static_cast<int>(pairs.size());
+  const double* const x = p.data();  // (3 n) m
+  const std::array<int, 2>* const rings = model_.row_pair_rings.data();
+  const double closest2 = model_.row_closest * model_.row_closest;  // m^2
+  const auto closer = [&](int k) {
+    const double* a = x + 3 * rings[k][0];
+    const double* b = x + 3 * rings[k][1];
+    const double dx = b[0] - a[0], dy = b[1] - a[1], dz = b[2] - a[2];
+    return dx * dx + dy * dy + dz * dz < closest2;
+  };
+  std::vector<int>& found = row_pairs_closer_;
+  found.clear();
+  const int team = loop_threads(threads_, count, 8192);
+  if (team == 1) {
+    for (int k = 0; k < count; ++k) {
+      if (closer(k)) found.push_back(k);
+    }
+  } else {
+    std::vector<std::vector<int>> parts(team);
+#pragma omp parallel for schedule(static) num_threads(team)
+    for (int part = 0; part < team; ++part) {
+      const int end = static_cast<int>(static_cast<long long>(count) * (part + 1) / team);
+      for (int k = static_cast<int>(static_cast<long long>(count) * part / team); k < end; ++k) {
+        if (closer(k)) parts[part].push_back(k);
+      }
+    }
+    for (const std::vector<int>& part : parts) found.insert(found.end(), part.begin(), part.end());
+  }
+  if (found.empty()) return 0.0;
+  auto scope = profile_.scope(stage_name(PlausibleStage::constraints));
+  const std::vector<double>& w = model_.inverse_mass;
+  const double slip = model_.settings.row_slip;
+  double worst = 0.0;  // m
+  for (const int k : found) {
+    const EdgeConstraint& e = pairs[k];
+    Vec3 normal = p.col(e.b) - p.col(e.a);
+    const double length2 = normal.squaredNorm();  // m^2
+    const double weight = w[e.a] + w[e.b];
+    if (length2 >= e.min_length * e.min_length || weight == 0.0 || length2 < 1e-30) continue;
+    const double length = std::sqrt(length2);  // m
+    normal /= length;
+    const Vec3 way = slide_toward_faces(
+        normal, axis_in_frame(model_.weave, model_.rest_axes, state_.previous, e.a),
+        axis_in_frame(model_.weave, model_.rest_axes, state_.previous, e.b), slip);
+    // as far along `way` as closes the gap along the centre line
+    const double gap = length - e.min_length;  // m, < 0
+    const Vec3 shift = (gap / (weight * way.dot(normal))) * way;
+    p.col(e.a) += w[e.a] * shift;
+    p.col(e.b) -= w[e.b] * shift;
+    worst = std::max(worst, -gap);
+  }
+  return worst;
 }
 
 bool PlausibleSim::solves_contacts() const {
@@ -305,13 +377,8 @@ Vec3 PlausibleSim::slip_direction(const RingPair& pair, const Vec3& normal) cons
   // axis's part across the line (the way the hull distance falls; edge on, where neither way
   // falls, the way the axis points: the tie a dropped chain meets, which real rings and the rigid
   // engines' faceted ones break by their imperfections)
-  Vec3 side = Vec3::Zero();
-  for (const int ring : {pair.a, pair.b}) {
-    const Vec3 axis = state_.ring_axis.col(ring);
-    const double along = axis.dot(normal);
-    side += (along < 0.0 ? -1.0 : 1.0) * (axis - along * normal);
-  }
-  return (normal + kContactSlip * side).normalized();
+  return slide_toward_faces(normal, state_.ring_axis.col(pair.a), state_.ring_axis.col(pair.b),
+                            kContactSlip);
 }
 
 double PlausibleSim::solve_contacts() {

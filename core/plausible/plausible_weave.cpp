@@ -11,7 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "core/plausible/colouring.hpp"
 #include "core/plausible/constraints.hpp"
+#include "core/plausible/neighbour_frame.hpp"
 #include "core/plausible/plausible.hpp"
 #include "core/plausible/weave_limits.hpp"
 
@@ -19,12 +21,32 @@ namespace chainmail {
 
 double PlausibleSim::build_compression_limits() {
   model_.diagonals.clear();
+  model_.row_pairs.clear();
+  model_.row_pair_rings.clear();
+  model_.rest_axes.resize(3, 0);
   const double paper = model_.ring.min_link_distance();  // the wire thickness
   if (!model_.settings.compression_limits || model_.weave.type != WeaveType::four_in_one)
     return paper;
   const WeaveLimits limits = four_in_one_limits(model_.ring, model_.extended_swivel);
+  // with row_slip, rings side by side in a row are also listed on their own (slide_rows)
+  const bool slide = model_.settings.row_slip > 0.0;
+  const auto& grid = model_.weave.grid;
   for (const DiagonalPair& pair : diagonal_pairs(model_.weave, limits)) {
+    const bool row = grid[pair.b][0] - grid[pair.a][0] == grid[pair.b][1] - grid[pair.a][1];
+    if (slide && row) model_.row_pairs.push_back({pair.a, pair.b, pair.min, pair.max});
     model_.diagonals.push_back({pair.a, pair.b, pair.min, pair.max});
+  }
+  if (slide) {
+    // by ring: the look for pairs pushed together streams through the positions once
+    std::sort(model_.row_pairs.begin(), model_.row_pairs.end(),
+              [](const EdgeConstraint& x, const EdgeConstraint& y) { return x.a < y.a; });
+    model_.row_pair_rings.clear();
+    model_.row_closest = 0.0;
+    for (const EdgeConstraint& e : model_.row_pairs) {
+      model_.row_pair_rings.push_back({e.a, e.b});
+      model_.row_closest = std::max(model_.row_closest, e.min_length);
+    }
+    model_.rest_axes = rest_axes_in_frame(model_.weave);
   }
   // rings of adjacent rows a row and a half apart meet when a row is pushed together
   const size_t first_knight = model_.diagonals.size();

@@ -46,5 +46,30 @@ TEST(AttachmentConstraint, PullsBackToTheSphereAroundThePin) {
   EXPECT_EQ(solve_attachment_constraint(p, pin, 1.5, corr), 0.0);  // inside: free
 }
 
+TEST(SlideTowardFaces, TurnsTheNormalTowardTheAxesOnTheirSide) {
+  const Vec3 normal = Vec3::UnitX();
+  // no axes: straight along the normal
+  EXPECT_TRUE(slide_toward_faces(normal, Vec3::Zero(), Vec3::Zero(), 0.1).isApprox(normal));
+  // coins leaning the same way (axes mostly along the line, tipped toward +z): the push turns
+  // toward +z, whichever sign each axis has
+  const Vec3 lean = Vec3(1.0, 0.0, 0.5).normalized();
+  const Vec3 way = slide_toward_faces(normal, lean, -lean, 0.1);
+  EXPECT_NEAR(way.norm(), 1.0, 1e-15);
+  EXPECT_GT(way.z(), 0.0);
+  EXPECT_NEAR(way.y(), 0.0, 1e-15);
+  // each axis adds slip times its part across the normal: 2 * 0.1 * 0.5 / |lean| along z
+  const double across = 2.0 * 0.1 * lean.z();
+  EXPECT_NEAR(way.z() / way.x(), across, 1e-14);
+  // the other lean turns it the other way
+  EXPECT_LT(slide_toward_faces(normal, Vec3(1.0, 0.0, -0.5).normalized(), lean, 0.0).z(), 1e-15);
+  EXPECT_LT(slide_toward_faces(normal, Vec3(1.0, 0.0, -0.5).normalized(),
+                               Vec3(1.0, 0.0, -0.5).normalized(), 0.1)
+                .z(),
+            0.0);
+  // the push keeps closing a gap along the normal: dot >= 1 / sqrt(1 + 4 slip^2)
+  const Vec3 across_only = slide_toward_faces(normal, Vec3::UnitZ(), Vec3::UnitZ(), 1.0);
+  EXPECT_NEAR(across_only.dot(normal), 1.0 / std::sqrt(5.0), 1e-15);
+}
+
 }  // namespace
 }  // namespace chainmail

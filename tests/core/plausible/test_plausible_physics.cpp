@@ -196,6 +196,39 @@ TEST(PlausiblePhysics, NoLinkBeyondTheRingsOnAnyBenchScene) {
   }
 }
 
+TEST(PlausiblePhysics, CornerHungSheetFoldsOutOfItsPlane) {
+  // hung by its two top corners, a 4-in-1 sheet pushes the rows under the top edge together; its
+  // rings, leaning like coins, slide over each other out of the plane and the slack folds, as
+  // the rigid-ring models' sheets do (14 to 20 mm), given row_slip. With the pushes along the
+  // centre lines (row_slip 0, the default) nothing breaks the sheet's mirror symmetry through its
+  // plane: it hangs flat
+  Scene scene = load_scene_file(CHAINMAIL_SOURCE_DIR "/bench/scenes/corner_hang.json",
+                                {"weave.rows=16", "weave.cols=16", "duration=1"});
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  const auto out_of_plane = [&](double slip) {
+    PlausibleSettings settings;
+    settings.row_slip = slip;
+    PlausibleSim sim;
+    sim.reset(scene, weave, settings);
+    for (int s = 0; s < 250; ++s) sim.step(0.004);
+    const Positions& p = sim.state().position;
+    // the rest plane through the first row's ends and the last ring
+    const Positions& rest = weave.rest_position;
+    const int end_of_row = scene.weave.cols - 1, last = weave.size() - 1;
+    const Vec3 normal =
+        (rest.col(end_of_row) - rest.col(0)).cross(rest.col(last) - rest.col(0)).normalized();
+    double far = 0.0;  // m
+    for (int i = 0; i < p.cols(); ++i) {
+      far = std::max(far, std::abs((p.col(i) - rest.col(0)).dot(normal)));
+    }
+    return far;
+  };
+  EXPECT_EQ(out_of_plane(PlausibleSettings{}.row_slip), 0.0);
+  const double folded = out_of_plane(0.1);
+  std::printf("corner-hung 16 x 16: farthest ring %.1f mm out of the plane\n", 1e3 * folded);
+  EXPECT_GT(folded, 0.005);
+}
+
 // how deep a ring's torus reaches into a collider, m (<= 0: clear of it): the tube of radius a
 // around the centre circle, sampled at 256 points of the circle (exact for a plane: the lowest
 // point along the normal n is centre.n - (c sqrt(1 - (axis.n)^2) + a))

@@ -14,6 +14,7 @@
 #include "core/metrics.hpp"
 #include "core/plausible/constraints.hpp"
 #include "core/plausible/link_distance.hpp"
+#include "core/plausible/neighbour_frame.hpp"
 #include "core/plausible/orientation.hpp"
 #include "core/plausible/pin_paths.hpp"
 #include "core/plausible/plausible.hpp"
@@ -384,6 +385,32 @@ TEST(PlausibleWeave, EveryRingSwivelsTowardThePinsItHangsFrom) {
     EXPECT_NEAR(hinge_of(weave, free.state().position, free.state().orientation, i).turn, 0.0,
                 1e-9);
   }
+}
+
+TEST(NeighbourFrame, CarriesTheRestAxisWithTheSheet) {
+  // a ring's rest axis, kept in its neighbour frame, comes back as the rest axis on the rest
+  // layout and turned with the sheet on a turned one; a ring with no plane of neighbours has none
+  const Scene scene = loose_sheet();
+  const Weave weave = make_weave(scene.weave, scene.ring);
+  const Positions in_frame = rest_axes_in_frame(weave);
+  const Quat turn(Eigen::AngleAxisd(0.7, Vec3(0.3, -1.0, 0.4).normalized()));
+  const Positions turned = (turn.toRotationMatrix() * weave.rest_position).eval();
+  int framed = 0;
+  for (int r = 0; r < weave.size(); ++r) {
+    const Orientations& o = weave.rest_orientation;
+    const Vec3 rest = Quat(o(0, r), o(1, r), o(2, r), o(3, r)) * Vec3::UnitY();
+    if (in_frame.col(r).isZero()) {  // a corner with no neighbour along one grid axis
+      EXPECT_EQ(axis_in_frame(weave, in_frame, turned, r), Vec3::Zero());
+      continue;
+    }
+    ++framed;
+    EXPECT_LT((axis_in_frame(weave, in_frame, weave.rest_position, r) - rest).norm(), 1e-12);
+    EXPECT_LT((axis_in_frame(weave, in_frame, turned, r) - turn * rest).norm(), 1e-12);
+  }
+  EXPECT_GE(framed, weave.size() - 4);
+  Positions collapsed = weave.rest_position;
+  collapsed.colwise() = weave.rest_position.col(0);
+  EXPECT_EQ(axis_in_frame(weave, in_frame, collapsed, 0), Vec3::Zero());
 }
 
 }  // namespace
