@@ -94,10 +94,10 @@ struct PlausibleSettings {
   // 4-in-1 with compression_limits: rings side by side in a row, (i +- 1, j +- 1), that a step's
   // first prediction pushes past their closest approach (stacked like leaning coins) are pushed
   // apart along a way turned from the centre line toward their axes by this fraction of the axes'
-  // part across it, so the row slides out of the sheet toward the faces it leans to, as rigid
-  // rings do (slide_rows, core/plausible/neighbour_frame). 0 (the default): along the centre line,
-  // and a sheet's fold has no side to take; on, a corner-hung sheet folds like the rigid ones but
-  // a sheet carrying a heavy ring no longer comes to rest (docs/backends.md)
+  // part across it, so the row slides out of the sheet toward the faces it leans to and a sheet's
+  // slack folds to the side rigid rings fold it to (slide_rows, core/plausible/neighbour_frame).
+  // 0 (the default): along the centre line, and a fold has no side to take; on, the orientations
+  // derived from the centres leave a few links of a fold apart (docs/backends.md)
   double row_slip = 0.0;
   // 4-in-1: each ring's swivel hinge turns toward the pins it hangs from, the direction propagated
   // from the pins through the weave (core/pin_paths; paper §6), so a sheet hung from its corners
