@@ -100,15 +100,18 @@ TurnCandidates turn_candidates(const Positions& p, const Weave& weave, const Ori
   constexpr double kStep = 7.5 * std::numbers::pi / 180;  // rad
   TurnCandidates out;
   const Quat q0 = quat_at(o, i);
+  std::array<Circle, 4> theirs;  // the neighbours but the partner
+  int count = 0;
+  for (int k : weave.neighbours[i]) {
+    if (k >= 0 && k != partner) theirs[count++] = circle_of(p, o, k, c);
+  }
   for (int a = -kSteps; a <= kSteps; ++a) {
     for (int b = -kSteps; b <= kSteps; ++b) {
       const Quat q = q0 * Quat(Eigen::AngleAxisd(a * kStep, Vec3::UnitX())) *
                      Quat(Eigen::AngleAxisd(b * kStep, Vec3::UnitZ()));
       const Circle mine = ring_circle(p.col(i), q, c);
       int linked = 0;
-      for (int k : weave.neighbours[i]) {
-        if (k >= 0 && k != partner) linked += circles_linked(mine, circle_of(p, o, k, c));
-      }
+      for (int k = 0; k < count; ++k) linked += circles_linked(mine, theirs[k]);
       out.q.push_back(q), out.linked.push_back(linked), out.turn.push_back(a * a + b * b);
     }
   }
@@ -122,18 +125,33 @@ bool turn_pair(const Positions& p, const Weave& weave, Orientations& o, int i, i
   const TurnCandidates ck = turn_candidates(p, weave, o, k, i, c);
   const int now = linked_count(p, weave, o, i, quat_at(o, i), c) +
                   linked_count(p, weave, o, k, quat_at(o, k), c);
+  // the most links, then the least turn, then the first in the grids' order; the candidates go
+  // by links, most first, so that the search stops where even a linked pair cannot reach the best
+  const auto by_links = [](const TurnCandidates& t) {
+    std::vector<int> order(t.q.size());
+    for (size_t a = 0; a < order.size(); ++a) order[a] = static_cast<int>(a);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int x, int y) { return t.linked[x] > t.linked[y]; });
+    return order;
+  };
+  const std::vector<int> order_i = by_links(ci), order_k = by_links(ck);
+  std::vector<Circle> theirs(ck.q.size());
+  for (size_t b = 0; b < ck.q.size(); ++b) theirs[b] = ring_circle(p.col(k), ck.q[b], c);
+  const int most_k = ck.linked[order_k.front()];
   int best = now, bi = -1, bk = -1;
   double best_turn = 0.0;
-  for (size_t a = 0; a < ci.q.size(); ++a) {
+  for (const int a : order_i) {
+    if (ci.linked[a] + most_k + 2 < best) break;  // neither this nor any later can win
     const Circle mine = ring_circle(p.col(i), ci.q[a], c);
-    for (size_t b = 0; b < ck.q.size(); ++b) {
-      if (ci.linked[a] + ck.linked[b] + 2 < best) continue;  // cannot win even if linked
-      const int pair = circles_linked(mine, ring_circle(p.col(k), ck.q[b], c));
-      const int score = ci.linked[a] + ck.linked[b] + 2 * pair;
+    for (const int b : order_k) {
+      if (ci.linked[a] + ck.linked[b] + 2 < best) break;
+      const int score = ci.linked[a] + ck.linked[b] + 2 * circles_linked(mine, theirs[b]);
       const double turn = ci.turn[a] + ck.turn[b];
-      if (score > best || (score == best && bi >= 0 && turn < best_turn)) {
-        best = score, bi = static_cast<int>(a), bk = static_cast<int>(b), best_turn = turn;
-      }
+      const bool better =
+          score > best ||
+          (score == best && bi >= 0 &&
+           (turn < best_turn || (turn == best_turn && (a < bi || (a == bi && b < bk)))));
+      if (better) best = score, bi = a, bk = b, best_turn = turn;
     }
   }
   if (bi < 0) return false;
