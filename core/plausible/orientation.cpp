@@ -138,6 +138,8 @@ bool turn_pair(const Positions& p, const Weave& weave, Orientations& o, int i, i
   std::vector<Circle> theirs(ck.q.size());
   for (size_t b = 0; b < ck.q.size(); ++b) theirs[b] = ring_circle(p.col(k), ck.q[b], c);
   const int most_k = ck.linked[order_k.front()];
+  // nothing can link more than now: no turn
+  if (ci.linked[order_i.front()] + most_k + 2 <= now) return false;
   int best = now, bi = -1, bk = -1;
   double best_turn = 0.0;
   for (const int a : order_i) {
@@ -145,6 +147,9 @@ bool turn_pair(const Positions& p, const Weave& weave, Orientations& o, int i, i
     const Circle mine = ring_circle(p.col(i), ci.q[a], c);
     for (const int b : order_k) {
       if (ci.linked[a] + ck.linked[b] + 2 < best) break;
+      // at most a tie on links, which a larger turn loses
+      if (bi >= 0 && ci.linked[a] + ck.linked[b] + 2 == best && ci.turn[a] + ck.turn[b] > best_turn)
+        continue;
       const int score = ci.linked[a] + ck.linked[b] + 2 * circles_linked(mine, theirs[b]);
       const double turn = ci.turn[a] + ck.turn[b];
       const bool better =
