@@ -151,10 +151,6 @@ struct PlausibleModel {
   // toward their faces where a step's first prediction brings them closer than their closest
   // approach (slide_rows)
   std::vector<EdgeConstraint> row_pairs;  // by first ring
-  // the row pairs' rings, and the largest of their closest approaches (m): what each sweep's look
-  // for a pair pushed together reads
-  std::vector<std::array<int, 2>> row_pair_rings;
-  double row_closest = 0.0;
   Positions rest_axes;  // (3, n) with row_slip: each ring's rest axis in its rest neighbour frame
   PinPaths pin_paths;   // 4-in-1 with swivel_from_pins: the rings breadth-first from the pins
   GridKeys grid;        // which pairs the sweeps hold (the contact list leaves them out)

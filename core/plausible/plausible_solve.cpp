@@ -3,7 +3,6 @@
 // (Newton steps on all of them, or Gauss-Seidel sweeps) until the largest violation is below the
 // tolerance.
 #include <algorithm>
-#include <array>
 #include <cmath>
 
 #include "core/colliders.hpp"
@@ -134,35 +133,13 @@ double PlausibleSim::slide_rows() {
   Positions& p = state_.position;
   const std::vector<EdgeConstraint>& pairs = model_.row_pairs;
   // few rows are pushed together at once: the pairs closer than their closest approach are found
-  // first (on the threads), then pushed apart one by one in the list's order (a pair that a push
-  // before it brought together waits for the next sweep)
-  const int count = static_cast<int>(pairs.size());
-  const double* const x = p.data();  // (3 n) m
-  const std::array<int, 2>* const rings = model_.row_pair_rings.data();
-  const double closest2 = model_.row_closest * model_.row_closest;  // m^2
-  const auto closer = [&](int k) {
-    const double* a = x + 3 * rings[k][0];
-    const double* b = x + 3 * rings[k][1];
-    const double dx = b[0] - a[0], dy = b[1] - a[1], dz = b[2] - a[2];
-    return dx * dx + dy * dy + dz * dz < closest2;
-  };
+  // first, then pushed apart one by one in the list's order (a pair that a push before it brought
+  // together waits for the next step)
   std::vector<int>& found = row_pairs_closer_;
   found.clear();
-  const int team = loop_threads(threads_, count, 8192);
-  if (team == 1) {
-    for (int k = 0; k < count; ++k) {
-      if (closer(k)) found.push_back(k);
-    }
-  } else {
-    std::vector<std::vector<int>> parts(team);
-#pragma omp parallel for schedule(static) num_threads(team)
-    for (int part = 0; part < team; ++part) {
-      const int end = static_cast<int>(static_cast<long long>(count) * (part + 1) / team);
-      for (int k = static_cast<int>(static_cast<long long>(count) * part / team); k < end; ++k) {
-        if (closer(k)) parts[part].push_back(k);
-      }
-    }
-    for (const std::vector<int>& part : parts) found.insert(found.end(), part.begin(), part.end());
+  for (int k = 0; k < static_cast<int>(pairs.size()); ++k) {
+    const EdgeConstraint& e = pairs[k];
+    if ((p.col(e.b) - p.col(e.a)).squaredNorm() < e.min_length * e.min_length) found.push_back(k);
   }
   if (found.empty()) return 0.0;
   auto scope = profile_.scope(stage_name(PlausibleStage::constraints));

@@ -11,7 +11,6 @@
 #include <string>
 #include <vector>
 
-#include "core/plausible/colouring.hpp"
 #include "core/plausible/constraints.hpp"
 #include "core/plausible/neighbour_frame.hpp"
 #include "core/plausible/plausible.hpp"
@@ -22,7 +21,6 @@ namespace chainmail {
 double PlausibleSim::build_compression_limits() {
   model_.diagonals.clear();
   model_.row_pairs.clear();
-  model_.row_pair_rings.clear();
   model_.rest_axes.resize(3, 0);
   const double paper = model_.ring.min_link_distance();  // the wire thickness
   if (!model_.settings.compression_limits || model_.weave.type != WeaveType::four_in_one)
@@ -40,12 +38,6 @@ double PlausibleSim::build_compression_limits() {
     // by ring: the look for pairs pushed together streams through the positions once
     std::sort(model_.row_pairs.begin(), model_.row_pairs.end(),
               [](const EdgeConstraint& x, const EdgeConstraint& y) { return x.a < y.a; });
-    model_.row_pair_rings.clear();
-    model_.row_closest = 0.0;
-    for (const EdgeConstraint& e : model_.row_pairs) {
-      model_.row_pair_rings.push_back({e.a, e.b});
-      model_.row_closest = std::max(model_.row_closest, e.min_length);
-    }
     model_.rest_axes = rest_axes_in_frame(model_.weave);
   }
   // rings of adjacent rows a row and a half apart meet when a row is pushed together
