@@ -10,7 +10,7 @@ bool neighbour_frame(const Weave& weave, const Positions& x, int r, Eigen::Matri
   const Vec3 along = span(next[0], next[1]), across = span(next[2], next[3]);  // m
   const Vec3 normal = along.cross(across);                                     // m^2
   const double scale = along.squaredNorm() * across.squaredNorm();             // m^4
-  if (!(normal.squaredNorm() > 1e-12 * scale) || scale == 0.0) return false;
+  if (!(normal.squaredNorm() > 1e-12 * scale)) return false;  // also where a span is 0
   frame.col(0) = along.normalized();
   frame.col(2) = normal.normalized();
   frame.col(1) = frame.col(2).cross(frame.col(0));

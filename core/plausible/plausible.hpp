@@ -382,8 +382,7 @@ class PlausibleSim {
     std::vector<RingPair> pairs;
   };
   std::vector<FoundPairs> contact_found_;
-  std::vector<int> row_pairs_closer_;  // slide_rows: the row pairs found too close
-  Projection projection_;              // the Newton steps' factorisation, kept between steps
+  Projection projection_;  // the Newton steps' factorisation, kept between steps
   StageProfile profile_;
   int requested_threads_ = 1;
   int rings_per_thread_ = kRingsPerThread;

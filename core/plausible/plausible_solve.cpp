@@ -135,8 +135,7 @@ double PlausibleSim::slide_rows() {
   // few rows are pushed together at once: the pairs closer than their closest approach are found
   // first, then pushed apart one by one in the list's order (a pair that a push before it brought
   // together waits for the next step)
-  std::vector<int>& found = row_pairs_closer_;
-  found.clear();
+  std::vector<int> found;
   for (int k = 0; k < static_cast<int>(pairs.size()); ++k) {
     const EdgeConstraint& e = pairs[k];
     if ((p.col(e.b) - p.col(e.a)).squaredNorm() < e.min_length * e.min_length) found.push_back(k);
