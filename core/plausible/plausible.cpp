@@ -178,6 +178,7 @@ void PlausibleSim::step(double dt) {
   threads_ = team_threads(static_cast<int>(state_.position.cols()));
   if (controls_substeps()) floor_substeps_by_speed(dt);
   const int substeps = substep_count();
+  state_.newton_stalled = false;  // each step tries the Newton correction afresh
   // a substep's velocity update and the next one's prediction share one pass over the rings
   // where nothing comes between them: no collider friction, no forces to sum, no damping (the
   // last substep's)

@@ -192,6 +192,9 @@ struct PlausibleState {
   // left (the last sweep's, or the edges' and colliders' after the Newton steps)
   int sweeps = 0;
   int newton_steps = 0;
+  // the step's Newton steps stalled (the constraints cannot all be met: pins farther apart than
+  // the links between them reach): its later substeps keep the sweeps' result
+  bool newton_stalled = false;
   int substeps = 0;        // automatic substeps: what the stretch control gives the next step
   int speed_substeps = 1;  // automatic substeps: what the rings' speed asks of the step
   // m, the links' largest stretch the step's substeps met in their scheduled sweeps (extra sweeps
@@ -235,6 +238,14 @@ class PlausibleSim {
   static constexpr int kMinSubsteps = 4;
   static constexpr int kMaxSubsteps = 64;
   static constexpr double kMovePerSubstep = 0.25;  // inner diameters
+  // Newton steps stop where kNewtonPatience steps in a row have not brought the residual below
+  // kNewtonProgress of the least it has reached: near a solution each step squares the error, so a
+  // run that stalls there has none to find (pins farther apart than their links reach). Below
+  // kNewtonStallFloor of the longest link no step counts as stalled: a chain at full extension
+  // hovers there while rows are released and taken back, and converges
+  static constexpr double kNewtonProgress = 0.5;
+  static constexpr int kNewtonPatience = 4;
+  static constexpr double kNewtonStallFloor = 0.01;
   // a ring this many times heavier than a ring it hangs from has its way to the pins swept up to
   // kCarriedPasses more times a substep (PlausibleModel::carried)
   static constexpr double kCarriedMassRatio = 4.0;

@@ -4,6 +4,7 @@
 // tolerance.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/colliders.hpp"
 #include "core/parallel.hpp"
@@ -84,7 +85,7 @@ void PlausibleSim::solve_positions(bool slide) {
   // together remove; the state decides, not the ring count. An attachment's violation is a whole
   // path's: the rows are built only where a link, contact or collider was met past the level
   const double trigger = newton_trigger();  // m
-  if (model_.settings.newton_steps > 0 && local > trigger) {
+  if (model_.settings.newton_steps > 0 && local > trigger && !state_.newton_stalled) {
     solve_together(tolerance, trigger);
   }
   if (!model_.carried.empty()) hold_carried(tolerance);
@@ -181,6 +182,8 @@ void PlausibleSim::solve_together(double tolerance, double trigger) {
   // tight they contradict the edges, and a system holding both has no solution
   const bool colliders = !model_.colliders.empty();
   std::vector<ProjectionRow> rows;
+  double least = std::numeric_limits<double>::infinity();  // m, the least residual reached
+  int stalled = 0;  // steps in a row that did not bring the residual below kNewtonProgress * least
   for (;;) {
     rows.clear();
     double residual = 0.0;
@@ -198,6 +201,14 @@ void PlausibleSim::solve_together(double tolerance, double trigger) {
     // stand within the level
     if (state_.newton_steps == 0 && residual <= trigger) break;
     if (residual <= tolerance || state_.newton_steps >= model_.settings.newton_steps) break;
+    const bool progress = residual < kNewtonProgress * least;
+    if (progress) least = residual;
+    if (progress || residual < kNewtonStallFloor * model_.longest_link) {
+      stalled = 0;
+    } else if (++stalled >= kNewtonPatience) {
+      state_.newton_stalled = true;
+      break;
+    }
     ++state_.newton_steps;
     auto scope = profile_.scope("newton");
     const ProjectionResult result = projection_.project(rows, model_.inverse_mass, state_.position);

@@ -404,6 +404,53 @@ TEST(Plausible, FallingSheetKeepsItsContactCandidates) {
   EXPECT_EQ(sim.state().contact_rebuilds, 1);
 }
 
+// a grid of rings spaced `spacing` m apart, hung from its two top corners
+Scene corner_hung_grid(double spacing) {
+  return scene_from_json(
+      json{{"name", "grid"},
+           {"weave",
+            {{"type", "grid"},
+             {"rows", 6},
+             {"cols", 6},
+             {"plane", "xy"},
+             {"center", {0, 0.3, 0}},
+             {"spacing", spacing}}},
+           {"pins", json::array({{{"corner", "top_left"}}, {{"corner", "top_right"}}})},
+           {"duration", 1.0}},
+      "test");
+}
+
+TEST(Plausible, NewtonStepsStopWhereThePinsCannotBeHeld) {
+  // pins 0.1 m apart with five links of under a centimetre between them: no positions meet every
+  // bound, the Newton steps' residual stalls, and they stop after kNewtonPatience steps without
+  // progress instead of running to newton_steps in every substep; the later substeps of the step
+  // keep the sweeps' result
+  const Scene far = corner_hung_grid(0.02);
+  const Weave weave = make_weave(far.weave, far.ring);
+  PlausibleSim sim;
+  sim.reset(far, weave, PlausibleSettings{});
+  int stalled_steps = 0;
+  for (int s = 0; s < 5; ++s) {
+    sim.step(0.004);
+    stalled_steps += sim.state().newton_stalled;
+    EXPECT_LE(sim.state().newton_steps, PlausibleSim::kNewtonPatience) << "step " << s;
+    EXPECT_TRUE(sim.state().position.allFinite());
+  }
+  EXPECT_EQ(stalled_steps, 5);
+  EXPECT_GT(sim.max_over_extension(), 1.0);  // still torn: no solve can hold it
+  // rings that can hang between the pins never stall (their Newton steps, where they run,
+  // converge), and the sheet holds
+  const Scene near = corner_hung_grid(0.006);
+  const Weave close = make_weave(near.weave, near.ring);
+  PlausibleSim held;
+  held.reset(near, close, PlausibleSettings{});
+  for (int s = 0; s < 50; ++s) {
+    held.step(0.004);
+    EXPECT_FALSE(held.state().newton_stalled) << "step " << s;
+  }
+  EXPECT_LT(held.max_over_extension(), 0.01);
+}
+
 TEST(Plausible, SameSceneTwiceSameHash) {
   const Scene scene = curtain(10, 10);
   const Weave weave = make_weave(scene.weave, scene.ring);
