@@ -162,15 +162,22 @@ int disk_crossings(const Circle& first, const Circle& second) {
   const double reach = first.radius + second.radius;
   if (offset.squaredNorm() > reach * reach) return 0;
   const Vec3& n = first.normal;
+  const double h0 = offset.dot(n);
+  const double band = linking_band(first, second);
+  // the test below without the tangent basis, from a bound on the amplitude: alpha^2 + beta^2 is
+  // |n|^2 - (n . n2)^2 up to rounding, so where even the bound leaves no crossing neither does the
+  // exact amplitude (most candidate turns of a ring end here)
+  const double along = n.dot(second.normal);
+  const double tilt_bound = std::sqrt(std::max(0.0, n.squaredNorm() - along * along) + 1e-12);
+  if (second.radius * tilt_bound - std::abs(h0) <= band) return 0;
   Vec3 t0, t1;
   tangent_basis(second.normal, t0, t1);
   // the second circle's height above the first's plane is exactly a sinusoid,
   // h(s) = h0 + r2 (alpha cos s + beta sin s): no sampling, its extremes are h0 -+ amplitude
-  const double h0 = offset.dot(n), alpha = t0.dot(n), beta = t1.dot(n);
+  const double alpha = t0.dot(n), beta = t1.dot(n);
   // (not std::hypot: alpha and beta are at most 1, and hypot's care for overflow costs as much as
   // the rest of the test)
   const double tilt = std::sqrt(alpha * alpha + beta * beta), amplitude = second.radius * tilt;
-  const double band = linking_band(first, second);
   // a crossing needs heights strictly beyond the band on both sides; otherwise the circles are
   // coplanar (never linked) or touch the plane without crossing it
   if (amplitude - std::abs(h0) <= band) return 0;
@@ -187,6 +194,31 @@ int disk_crossings(const Circle& first, const Circle& second) {
     crossings += q.squaredNorm() - h * h < inner * inner;
   }
   return crossings;
+}
+
+bool circle_may_pass_within_radius(const Circle& circle, const Vec3& point) {
+  // a circle of radius r passes within (1 + 1e-6) r of a point at height h over its plane and
+  // in-plane distance rho only where (rho - r)^2 + h^2 < ((1 + 1e-6) r)^2
+  const Vec3 offset = point - circle.centre;                                       // m
+  const double h = offset.dot(circle.normal);                                      // m
+  const double distance2 = offset.squaredNorm();                                   // m^2
+  const double rho = std::sqrt(std::max(0.0, distance2 - h * h)) - circle.radius;  // m
+  const double within = (1.0 + 1e-6) * circle.radius;                              // m
+  return rho * rho + h * h < within * within;
+}
+
+bool circles_may_link(const Circle& first, const Circle& second) {
+  const Vec3 offset = second.centre - first.centre;  // m
+  const double reach = first.radius + second.radius;
+  if (offset.squaredNorm() > reach * reach) return false;
+  // disk_crossings' first test with its amplitude bound (normals unit to within 1e-12) and the
+  // least band it uses, 1e-9 of the radii
+  const double along = first.normal.dot(second.normal);
+  const double height = std::abs(offset.dot(first.normal));  // the second's centre, m
+  const double tilt = std::sqrt(std::max(0.0, first.normal.squaredNorm() - along * along) + 1e-12);
+  if (second.radius * tilt - height <= 1e-9 * reach) return false;
+  return circle_may_pass_within_radius(second, first.centre) &&
+         circle_may_pass_within_radius(first, second.centre);
 }
 
 Circle ring_circle(const Vec3& centre, const Quat& orientation, double centre_radius) {

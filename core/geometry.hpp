@@ -47,6 +47,17 @@ inline bool circles_linked(const Circle& first, const Circle& second) {
   return disk_crossings(first, second) == 1;
 }
 
+// false only where no point of the circle comes within its radius of `point`, with room for
+// rounding: a circle that crosses another's open disk passes within that one's radius of its
+// centre
+bool circle_may_pass_within_radius(const Circle& circle, const Vec3& point);
+// false only where circles_linked is false, from a few dot products and no tangent basis: within
+// reach, the second reaching past the first's plane on both sides, and each passing within its
+// radius of the other's centre (the second crosses the first's open disk, and linked circles cross
+// each other's), each with room for rounding. A search over many candidate orientations asks it
+// first
+bool circles_may_link(const Circle& first, const Circle& second);
+
 Circle ring_circle(const Vec3& centre, const Quat& orientation, double centre_radius);
 
 }  // namespace chainmail

@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
 #include <vector>
@@ -69,13 +71,18 @@ Circle circle_of(const Positions& p, const Orientations& o, int i, double c) {
   return ring_circle(p.col(i), quat_at(o, i), c);
 }
 
+// circles_linked, the cheap test first (most candidate turns fail it)
+bool linked_fast(const Circle& mine, const Circle& theirs) {
+  return circles_may_link(mine, theirs) && circles_linked(mine, theirs);
+}
+
 // neighbours of ring i whose centre circle links ring i's when ring i has orientation q
 int linked_count(const Positions& p, const Weave& weave, const Orientations& o, int i,
                  const Quat& q, double c) {
   const Circle mine = ring_circle(p.col(i), q, c);
   int count = 0;
   for (int k : weave.neighbours[i]) {
-    if (k >= 0) count += circles_linked(mine, circle_of(p, o, k, c));
+    if (k >= 0) count += linked_fast(mine, circle_of(p, o, k, c));
   }
   return count;
 }
@@ -87,71 +94,133 @@ int neighbour_count(const Weave& weave, int i) {
 }
 
 // one ring's candidate turns about its local X and Z axes, 7.5 degrees apart up to 90 either way,
-// with the neighbours other than `partner` each one links
+// in the grid's order (a-major), each with the neighbours it links as bits by neighbour slot.
+// With `enough`, the search goes by size of turn and stops at the first turn linking that many
+// neighbours: no turn met later is larger in links or smaller in turn, so the choice is the whole
+// grid's; the turns not searched have links kUnsearched
 struct TurnCandidates {
+  static constexpr std::uint8_t kUnsearched = 0xff;
   std::vector<Quat> q;
-  std::vector<int> linked;  // neighbours linked, partner excluded
+  std::vector<std::uint8_t> links;
   std::vector<double> turn;
+  // neighbours linked by turn a, the neighbour in `skip` (a slot, or -1) left out; -1 unsearched
+  int linked(int a, int skip) const {
+    if (links[a] == kUnsearched) return -1;
+    return std::popcount(static_cast<unsigned>(skip < 0 ? links[a] : links[a] & ~(1u << skip)));
+  }
 };
 
+constexpr int kTurnSteps = 12;
+constexpr int kTurnSide = 2 * kTurnSteps + 1;
+
 TurnCandidates turn_candidates(const Positions& p, const Weave& weave, const Orientations& o, int i,
-                               int partner, double c) {
-  constexpr int kSteps = 12;
+                               double c, int enough = 5) {
   constexpr double kStep = 7.5 * std::numbers::pi / 180;  // rad
-  TurnCandidates out;
-  const Quat q0 = quat_at(o, i);
-  std::array<Circle, 4> theirs;  // the neighbours but the partner
-  int count = 0;
-  for (int k : weave.neighbours[i]) {
-    if (k >= 0 && k != partner) theirs[count++] = circle_of(p, o, k, c);
-  }
-  for (int a = -kSteps; a <= kSteps; ++a) {
-    for (int b = -kSteps; b <= kSteps; ++b) {
-      const Quat q = q0 * Quat(Eigen::AngleAxisd(a * kStep, Vec3::UnitX())) *
-                     Quat(Eigen::AngleAxisd(b * kStep, Vec3::UnitZ()));
-      const Circle mine = ring_circle(p.col(i), q, c);
-      int linked = 0;
-      for (int k = 0; k < count; ++k) linked += circles_linked(mine, theirs[k]);
-      out.q.push_back(q), out.linked.push_back(linked), out.turn.push_back(a * a + b * b);
+  // the turns about local X and Z once, and the grid's cells by size of turn, then grid order
+  // (the products below keep their order, so their bits)
+  static const std::array<std::array<Quat, kTurnSide>, 2> turns = [] {
+    std::array<std::array<Quat, kTurnSide>, 2> t;
+    for (int a = -kTurnSteps; a <= kTurnSteps; ++a) {
+      t[0][a + kTurnSteps] = Quat(Eigen::AngleAxisd(a * kStep, Vec3::UnitX()));
+      t[1][a + kTurnSteps] = Quat(Eigen::AngleAxisd(a * kStep, Vec3::UnitZ()));
     }
+    return t;
+  }();
+  static const std::array<int, kTurnSide* kTurnSide> by_turn = [] {
+    std::array<int, kTurnSide * kTurnSide> order;
+    for (int k = 0; k < kTurnSide * kTurnSide; ++k) order[k] = k;
+    const auto size = [](int k) {
+      const int a = k / kTurnSide - kTurnSteps, b = k % kTurnSide - kTurnSteps;
+      return a * a + b * b;
+    };
+    std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return size(x) < size(y); });
+    return order;
+  }();
+  TurnCandidates out;
+  out.q.resize(kTurnSide * kTurnSide);
+  out.links.assign(kTurnSide * kTurnSide, TurnCandidates::kUnsearched);
+  out.turn.resize(kTurnSide * kTurnSide);
+  const Quat q0 = quat_at(o, i);
+  std::array<Circle, 4> theirs;
+  std::array<int, 4> slot;
+  int count = 0;
+  for (int s = 0; s < 4; ++s) {
+    const int k = weave.neighbours[i][s];
+    if (k >= 0) theirs[count] = circle_of(p, o, k, c), slot[count++] = s;
+  }
+  for (const int cell : by_turn) {
+    const int a = cell / kTurnSide - kTurnSteps, b = cell % kTurnSide - kTurnSteps;
+    const Quat q = q0 * turns[0][a + kTurnSteps] * turns[1][b + kTurnSteps];
+    const Circle mine = ring_circle(p.col(i), q, c);
+    unsigned links = 0;
+    for (int k = 0; k < count; ++k) links |= unsigned{linked_fast(mine, theirs[k])} << slot[k];
+    out.q[cell] = q, out.links[cell] = static_cast<std::uint8_t>(links),
+    out.turn[cell] = a * a + b * b;
+    if (std::popcount(links) >= enough) break;
   }
   return out;
+}
+
+int slot_of(const Weave& weave, int i, int k) {
+  for (int s = 0; s < 4; ++s) {
+    if (weave.neighbours[i][s] == k) return s;
+  }
+  return -1;
 }
 
 // turns a linked pair (i, k) that neither ring can link alone without losing another link: both
 // together, to the nearest pair of turns that links the most of their neighbours; true if turned
 bool turn_pair(const Positions& p, const Weave& weave, Orientations& o, int i, int k, double c) {
-  const TurnCandidates ci = turn_candidates(p, weave, o, i, k, c);
-  const TurnCandidates ck = turn_candidates(p, weave, o, k, i, c);
+  const TurnCandidates ti = turn_candidates(p, weave, o, i, c);
+  const TurnCandidates tk = turn_candidates(p, weave, o, k, c);
+  const int skip_i = slot_of(weave, i, k), skip_k = slot_of(weave, k, i);
+  const int size = static_cast<int>(ti.q.size());
+  std::vector<int> li(size), lk(size);  // neighbours linked, the partner left out
+  for (int a = 0; a < size; ++a) li[a] = ti.linked(a, skip_i), lk[a] = tk.linked(a, skip_k);
   const int now = linked_count(p, weave, o, i, quat_at(o, i), c) +
                   linked_count(p, weave, o, k, quat_at(o, k), c);
   // the most links, then the least turn, then the first in the grids' order; the candidates go
   // by links, most first, so that the search stops where even a linked pair cannot reach the best
-  const auto by_links = [](const TurnCandidates& t) {
-    std::vector<int> order(t.q.size());
-    for (size_t a = 0; a < order.size(); ++a) order[a] = static_cast<int>(a);
+  const auto by_links = [size](const std::vector<int>& linked) {
+    std::vector<int> order(size);
+    for (int a = 0; a < size; ++a) order[a] = a;
     std::stable_sort(order.begin(), order.end(),
-                     [&](int x, int y) { return t.linked[x] > t.linked[y]; });
+                     [&](int x, int y) { return linked[x] > linked[y]; });
     return order;
   };
-  const std::vector<int> order_i = by_links(ci), order_k = by_links(ck);
-  std::vector<Circle> theirs(ck.q.size());
-  for (size_t b = 0; b < ck.q.size(); ++b) theirs[b] = ring_circle(p.col(k), ck.q[b], c);
-  const int most_k = ck.linked[order_k.front()];
+  const std::vector<int> order_i = by_links(li), order_k = by_links(lk);
+  const int most_k = lk[order_k.front()];
   // nothing can link more than now: no turn
-  if (ci.linked[order_i.front()] + most_k + 2 <= now) return false;
+  if (li[order_i.front()] + most_k + 2 <= now) return false;
+  // the parts of circles_may_link that read one ring's turn alone, once a turn: k's circle passing
+  // near i's centre, and i's plane low enough under k's centre and i's circle near it
+  std::vector<Circle> theirs(size);
+  std::vector<char> near_i(size);
+  for (int b = 0; b < size; ++b) {
+    theirs[b] = ring_circle(p.col(k), tk.q[b], c);
+    near_i[b] = circle_may_pass_within_radius(theirs[b], p.col(i));
+  }
+  const Vec3 offset = p.col(k) - p.col(i);  // m
+  const bool near = offset.squaredNorm() <= 4.0 * c * c;
   int best = now, bi = -1, bk = -1;
   double best_turn = 0.0;
   for (const int a : order_i) {
-    if (ci.linked[a] + most_k + 2 < best) break;  // neither this nor any later can win
-    const Circle mine = ring_circle(p.col(i), ci.q[a], c);
+    if (li[a] + most_k + 2 < best) break;  // neither this nor any later can win
+    const Circle mine = ring_circle(p.col(i), ti.q[a], c);
+    const bool may =
+        near &&
+        c * std::sqrt(mine.normal.squaredNorm() + 1e-12) - std::abs(offset.dot(mine.normal)) >
+            2e-9 * c &&
+        circle_may_pass_within_radius(mine, p.col(k));
+    // what linking the pair can add: nothing where no turn of k links this turn of i
+    const int bonus = may ? 2 : 0;
     for (const int b : order_k) {
-      if (ci.linked[a] + ck.linked[b] + 2 < best) break;
+      if (li[a] + lk[b] + bonus < best) break;
       // at most a tie on links, which a larger turn loses
-      if (bi >= 0 && ci.linked[a] + ck.linked[b] + 2 == best && ci.turn[a] + ck.turn[b] > best_turn)
-        continue;
-      const int score = ci.linked[a] + ck.linked[b] + 2 * circles_linked(mine, theirs[b]);
-      const double turn = ci.turn[a] + ck.turn[b];
+      if (bi >= 0 && li[a] + lk[b] + bonus == best && ti.turn[a] + tk.turn[b] > best_turn) continue;
+      const bool linked = may && near_i[b] && linked_fast(mine, theirs[b]);
+      const int score = li[a] + lk[b] + 2 * linked;
+      const double turn = ti.turn[a] + tk.turn[b];
       const bool better =
           score > best ||
           (score == best && bi >= 0 &&
@@ -160,8 +229,8 @@ bool turn_pair(const Positions& p, const Weave& weave, Orientations& o, int i, i
     }
   }
   if (bi < 0) return false;
-  store(o, i, ci.q[bi].normalized());
-  store(o, k, ck.q[bk].normalized());
+  store(o, i, ti.q[bi].normalized());
+  store(o, k, tk.q[bk].normalized());
   return true;
 }
 
@@ -170,33 +239,60 @@ bool turn_pair(const Positions& p, const Weave& weave, Orientations& o, int i, i
 int keep_links(const Positions& position, const Weave& weave, const RingGeometry& ring,
                Orientations& orientation) {
   const double c = ring.centre_radius;
+  const int n = weave.size();
   int turned = 0;
+  // a search reads only the orientations of its rings and their neighbours: one that found no turn
+  // finds none again until one of those turns, and the second round skips it. turned_at: the
+  // count of turns when the ring last turned; the stamps: the count when a search found nothing
+  std::vector<int> turned_at(n, 0), ring_stamp(n, -1);
+  std::vector<std::array<int, 4>> pair_stamp(n, {-1, -1, -1, -1});  // by neighbour slot
+  const auto unchanged = [&](int i, int stamp) {
+    if (stamp < 0 || turned_at[i] > stamp) return false;
+    for (int k : weave.neighbours[i]) {
+      if (k >= 0 && turned_at[k] > stamp) return false;
+    }
+    return true;
+  };
   // two rounds: a ring's best turn depends on its neighbours', turned in the round before
   for (int round = 0; round < 2; ++round) {
-    for (int i = 0; i < weave.size(); ++i) {
+    for (int i = 0; i < n; ++i) {
+      if (unchanged(i, ring_stamp[i])) continue;
       const int now = linked_count(position, weave, orientation, i, quat_at(orientation, i), c);
-      if (now == neighbour_count(weave, i)) continue;
-      const TurnCandidates ci = turn_candidates(position, weave, orientation, i, -1, c);
+      const int all = neighbour_count(weave, i);
+      if (now == all) continue;
+      const TurnCandidates ci = turn_candidates(position, weave, orientation, i, c, all);
       int best = -1;
-      for (size_t a = 0; a < ci.q.size(); ++a) {
-        if (ci.linked[a] <= now) continue;
-        if (best < 0 || ci.linked[a] > ci.linked[best] ||
-            (ci.linked[a] == ci.linked[best] && ci.turn[a] < ci.turn[best])) {
-          best = static_cast<int>(a);
+      for (int a = 0; a < static_cast<int>(ci.q.size()); ++a) {
+        const int linked = ci.linked(a, -1);
+        if (linked <= now) continue;
+        if (best < 0 || linked > ci.linked(best, -1) ||
+            (linked == ci.linked(best, -1) && ci.turn[a] < ci.turn[best])) {
+          best = a;
         }
       }
-      if (best < 0) continue;
+      if (best < 0) {
+        ring_stamp[i] = turned;
+        continue;
+      }
       store(orientation, i, ci.q[best].normalized());
-      ++turned;
+      turned_at[i] = ++turned;
     }
     // pairs still apart: each ring links its other neighbours and would lose one to link this one
-    for (int i = 0; i < weave.size(); ++i) {
-      for (int k : weave.neighbours[i]) {
+    for (int i = 0; i < n; ++i) {
+      for (int slot = 0; slot < 4; ++slot) {
+        const int k = weave.neighbours[i][slot];
         if (k <= i || circles_linked(circle_of(position, orientation, i, c),
                                      circle_of(position, orientation, k, c))) {
           continue;
         }
-        turned += turn_pair(position, weave, orientation, i, k, c);
+        const int stamp = pair_stamp[i][slot];
+        if (unchanged(i, stamp) && unchanged(k, stamp)) continue;
+        if (!turn_pair(position, weave, orientation, i, k, c)) {
+          pair_stamp[i][slot] = turned;
+          continue;
+        }
+        ++turned;
+        turned_at[i] = turned_at[k] = turned;
       }
     }
   }

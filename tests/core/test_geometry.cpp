@@ -330,6 +330,38 @@ TEST(Linking, NearCoplanarTiltsMatchTheExactConstruction) {
   EXPECT_LT(linked, cases * 4 / 5);
 }
 
+TEST(Linking, MayLinkHoldsForEveryLinkedPair) {
+  // ring-sized pairs within reach, at random rigid placements, half of them placed near a linked
+  // configuration (through the hole, tilted a little): every linked pair passes the cheap test,
+  // and most unlinked ones fail it (what it is for)
+  const double c = 0.0048;
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int linked = 0, unlinked = 0, rejected = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    Circle p = circle(Vec3::Zero(), Vec3::UnitY(), c), q;
+    if (trial % 2 == 0) {
+      q = circle(c * Vec3(1.0 + 0.3 * u(rng), 0.3 * u(rng), 0.3 * u(rng)),
+                 Vec3(0.3 * u(rng), 0.3 * u(rng), 1.0), c);
+    } else {
+      q = circle(2.0 * c * Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), c);
+    }
+    const Rigid move = random_rigid(rng, 100.0 * c);
+    p = move(p), q = move(q);
+    for (const auto& [first, second] : {std::pair{p, q}, std::pair{q, p}}) {
+      if (circles_linked(first, second)) {
+        ++linked;
+        ASSERT_TRUE(circles_may_link(first, second)) << "trial " << trial;
+      } else {
+        ++unlinked;
+        rejected += !circles_may_link(first, second);
+      }
+    }
+  }
+  EXPECT_GT(linked, 5000);
+  EXPECT_GT(rejected, unlinked / 2);
+}
+
 TEST(Linking, WeaveNeighboursStayLinkedAnywhere) {
   const RingGeometry ring;
   WeaveSpec spec;
