@@ -97,7 +97,9 @@ int neighbour_count(const Weave& weave, int i) {
 // in the grid's order (a-major), each with the neighbours it links as bits by neighbour slot.
 // With `enough`, the search goes by size of turn and stops at the first turn linking that many
 // neighbours: no turn met later is larger in links or smaller in turn, so the choice is the whole
-// grid's; the turns not searched have links kUnsearched
+// grid's; the turns not searched have links kUnsearched. With `floor`, a turn that cannot link
+// more neighbours than that is not tested exactly and counts none (no search that sets it can
+// choose it)
 struct TurnCandidates {
   static constexpr std::uint8_t kUnsearched = 0xff;
   std::vector<Quat> q;
@@ -114,7 +116,7 @@ constexpr int kTurnSteps = 12;
 constexpr int kTurnSide = 2 * kTurnSteps + 1;
 
 TurnCandidates turn_candidates(const Positions& p, const Weave& weave, const Orientations& o, int i,
-                               double c, int enough = 5) {
+                               double c, int enough = 5, int floor = -1) {
   constexpr double kStep = 7.5 * std::numbers::pi / 180;  // rad
   // the turns about local X and Z once, and the grid's cells by size of turn, then grid order
   // (the products below keep their order, so their bits)
@@ -152,8 +154,14 @@ TurnCandidates turn_candidates(const Positions& p, const Weave& weave, const Ori
     const int a = cell / kTurnSide - kTurnSteps, b = cell % kTurnSide - kTurnSteps;
     const Quat q = q0 * turns[0][a + kTurnSteps] * turns[1][b + kTurnSteps];
     const Circle mine = ring_circle(p.col(i), q, c);
-    unsigned links = 0;
-    for (int k = 0; k < count; ++k) links |= unsigned{linked_fast(mine, theirs[k])} << slot[k];
+    // the cheap test first; the exact one only where the turn could link more than `floor`
+    unsigned maybe = 0, links = 0;
+    for (int k = 0; k < count; ++k) maybe |= unsigned{circles_may_link(mine, theirs[k])} << k;
+    if (std::popcount(maybe) > floor) {
+      for (int k = 0; k < count; ++k) {
+        if (maybe >> k & 1u) links |= unsigned{circles_linked(mine, theirs[k])} << slot[k];
+      }
+    }
     out.q[cell] = q, out.links[cell] = static_cast<std::uint8_t>(links),
     out.turn[cell] = a * a + b * b;
     if (std::popcount(links) >= enough) break;
@@ -260,7 +268,7 @@ int keep_links(const Positions& position, const Weave& weave, const RingGeometry
       const int now = linked_count(position, weave, orientation, i, quat_at(orientation, i), c);
       const int all = neighbour_count(weave, i);
       if (now == all) continue;
-      const TurnCandidates ci = turn_candidates(position, weave, orientation, i, c, all);
+      const TurnCandidates ci = turn_candidates(position, weave, orientation, i, c, all, now);
       int best = -1;
       for (int a = 0; a < static_cast<int>(ci.q.size()); ++a) {
         const int linked = ci.linked(a, -1);
