@@ -114,6 +114,16 @@ double linking_band(const Circle& first, const Circle& second) {
   return 1e-9 * size + 64.0 * std::numeric_limits<double>::epsilon() * coordinates;
 }
 
+// disk_crossings' test that the second circle's heights over the first's plane (h0 at its centre)
+// pass beyond the band on both sides, from a bound on the amplitude, without the tangent basis:
+// alpha^2 + beta^2 is |n|^2 - (n . n2)^2 up to rounding (normals unit to within 1e-12), so where
+// even the bound leaves no crossing neither does the exact amplitude
+bool may_reach_both_sides(const Circle& first, const Circle& second, double h0, double band) {
+  const double along = first.normal.dot(second.normal);
+  const double tilt = std::sqrt(std::max(0.0, first.normal.squaredNorm() - along * along) + 1e-12);
+  return second.radius * tilt - std::abs(h0) > band;
+}
+
 }  // namespace
 
 double point_circle_distance(const Vec3& p, const Circle& circle) {
@@ -164,12 +174,7 @@ int disk_crossings(const Circle& first, const Circle& second) {
   const Vec3& n = first.normal;
   const double h0 = offset.dot(n);
   const double band = linking_band(first, second);
-  // the test below without the tangent basis, from a bound on the amplitude: alpha^2 + beta^2 is
-  // |n|^2 - (n . n2)^2 up to rounding, so where even the bound leaves no crossing neither does the
-  // exact amplitude (most candidate turns of a ring end here)
-  const double along = n.dot(second.normal);
-  const double tilt_bound = std::sqrt(std::max(0.0, n.squaredNorm() - along * along) + 1e-12);
-  if (second.radius * tilt_bound - std::abs(h0) <= band) return 0;
+  if (!may_reach_both_sides(first, second, h0, band)) return 0;
   Vec3 t0, t1;
   tangent_basis(second.normal, t0, t1);
   // the second circle's height above the first's plane is exactly a sinusoid,
@@ -211,12 +216,8 @@ bool circles_may_link(const Circle& first, const Circle& second) {
   const Vec3 offset = second.centre - first.centre;  // m
   const double reach = first.radius + second.radius;
   if (offset.squaredNorm() > reach * reach) return false;
-  // disk_crossings' first test with its amplitude bound (normals unit to within 1e-12) and the
-  // least band it uses, 1e-9 of the radii
-  const double along = first.normal.dot(second.normal);
-  const double height = std::abs(offset.dot(first.normal));  // the second's centre, m
-  const double tilt = std::sqrt(std::max(0.0, first.normal.squaredNorm() - along * along) + 1e-12);
-  if (second.radius * tilt - height <= 1e-9 * reach) return false;
+  // with the least band disk_crossings uses, 1e-9 of the radii
+  if (!may_reach_both_sides(first, second, offset.dot(first.normal), 1e-9 * reach)) return false;
   return circle_may_pass_within_radius(second, first.centre) &&
          circle_may_pass_within_radius(first, second.centre);
 }

@@ -104,7 +104,6 @@ struct TurnCandidates {
   static constexpr std::uint8_t kUnsearched = 0xff;
   std::vector<Quat> q;
   std::vector<std::uint8_t> links;
-  std::vector<double> turn;
   // neighbours linked by turn a, the neighbour in `skip` (a slot, or -1) left out; -1 unsearched
   int linked(int a, int skip) const {
     if (links[a] == kUnsearched) return -1;
@@ -114,6 +113,13 @@ struct TurnCandidates {
 
 constexpr int kTurnSteps = 12;
 constexpr int kTurnSide = 2 * kTurnSteps + 1;
+
+// the size of a grid cell's turn, a^2 + b^2 in steps about local X and Z (cells a-major): the
+// nearest turn is the smallest
+int turn_size(int cell) {
+  const int a = cell / kTurnSide - kTurnSteps, b = cell % kTurnSide - kTurnSteps;
+  return a * a + b * b;
+}
 
 TurnCandidates turn_candidates(const Positions& p, const Weave& weave, const Orientations& o, int i,
                                double c, int enough = 5, int floor = -1) {
@@ -131,17 +137,13 @@ TurnCandidates turn_candidates(const Positions& p, const Weave& weave, const Ori
   static const std::array<int, kTurnSide* kTurnSide> by_turn = [] {
     std::array<int, kTurnSide * kTurnSide> order;
     for (int k = 0; k < kTurnSide * kTurnSide; ++k) order[k] = k;
-    const auto size = [](int k) {
-      const int a = k / kTurnSide - kTurnSteps, b = k % kTurnSide - kTurnSteps;
-      return a * a + b * b;
-    };
-    std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return size(x) < size(y); });
+    std::stable_sort(order.begin(), order.end(),
+                     [](int x, int y) { return turn_size(x) < turn_size(y); });
     return order;
   }();
   TurnCandidates out;
   out.q.resize(kTurnSide * kTurnSide);
   out.links.assign(kTurnSide * kTurnSide, TurnCandidates::kUnsearched);
-  out.turn.resize(kTurnSide * kTurnSide);
   const Quat q0 = quat_at(o, i);
   std::array<Circle, 4> theirs;
   std::array<int, 4> slot;
@@ -151,8 +153,7 @@ TurnCandidates turn_candidates(const Positions& p, const Weave& weave, const Ori
     if (k >= 0) theirs[count] = circle_of(p, o, k, c), slot[count++] = s;
   }
   for (const int cell : by_turn) {
-    const int a = cell / kTurnSide - kTurnSteps, b = cell % kTurnSide - kTurnSteps;
-    const Quat q = q0 * turns[0][a + kTurnSteps] * turns[1][b + kTurnSteps];
+    const Quat q = q0 * turns[0][cell / kTurnSide] * turns[1][cell % kTurnSide];
     const Circle mine = ring_circle(p.col(i), q, c);
     // the cheap test first; the exact one only where the turn could link more than `floor`
     unsigned maybe = 0, links = 0;
@@ -162,8 +163,7 @@ TurnCandidates turn_candidates(const Positions& p, const Weave& weave, const Ori
         if (maybe >> k & 1u) links |= unsigned{circles_linked(mine, theirs[k])} << slot[k];
       }
     }
-    out.q[cell] = q, out.links[cell] = static_cast<std::uint8_t>(links),
-    out.turn[cell] = a * a + b * b;
+    out.q[cell] = q, out.links[cell] = static_cast<std::uint8_t>(links);
     if (std::popcount(links) >= enough) break;
   }
   return out;
@@ -200,35 +200,30 @@ bool turn_pair(const Positions& p, const Weave& weave, Orientations& o, int i, i
   const int most_k = lk[order_k.front()];
   // nothing can link more than now: no turn
   if (li[order_i.front()] + most_k + 2 <= now) return false;
-  // the parts of circles_may_link that read one ring's turn alone, once a turn: k's circle passing
-  // near i's centre, and i's plane low enough under k's centre and i's circle near it
+  // the parts of circles_may_link that read one ring's turn alone, once a turn: each circle
+  // passing near the other ring's centre
   std::vector<Circle> theirs(size);
   std::vector<char> near_i(size);
   for (int b = 0; b < size; ++b) {
     theirs[b] = ring_circle(p.col(k), tk.q[b], c);
     near_i[b] = circle_may_pass_within_radius(theirs[b], p.col(i));
   }
-  const Vec3 offset = p.col(k) - p.col(i);  // m
-  const bool near = offset.squaredNorm() <= 4.0 * c * c;
   int best = now, bi = -1, bk = -1;
-  double best_turn = 0.0;
+  int best_turn = 0;
   for (const int a : order_i) {
     if (li[a] + most_k + 2 < best) break;  // neither this nor any later can win
     const Circle mine = ring_circle(p.col(i), ti.q[a], c);
-    const bool may =
-        near &&
-        c * std::sqrt(mine.normal.squaredNorm() + 1e-12) - std::abs(offset.dot(mine.normal)) >
-            2e-9 * c &&
-        circle_may_pass_within_radius(mine, p.col(k));
+    const bool may = circle_may_pass_within_radius(mine, p.col(k));
     // what linking the pair can add: nothing where no turn of k links this turn of i
     const int bonus = may ? 2 : 0;
     for (const int b : order_k) {
       if (li[a] + lk[b] + bonus < best) break;
       // at most a tie on links, which a larger turn loses
-      if (bi >= 0 && li[a] + lk[b] + bonus == best && ti.turn[a] + tk.turn[b] > best_turn) continue;
+      if (bi >= 0 && li[a] + lk[b] + bonus == best && turn_size(a) + turn_size(b) > best_turn)
+        continue;
       const bool linked = may && near_i[b] && linked_fast(mine, theirs[b]);
       const int score = li[a] + lk[b] + 2 * linked;
-      const double turn = ti.turn[a] + tk.turn[b];
+      const int turn = turn_size(a) + turn_size(b);
       const bool better =
           score > best ||
           (score == best && bi >= 0 &&
@@ -274,7 +269,7 @@ int keep_links(const Positions& position, const Weave& weave, const RingGeometry
         const int linked = ci.linked(a, -1);
         if (linked <= now) continue;
         if (best < 0 || linked > ci.linked(best, -1) ||
-            (linked == ci.linked(best, -1) && ci.turn[a] < ci.turn[best])) {
+            (linked == ci.linked(best, -1) && turn_size(a) < turn_size(best))) {
           best = a;
         }
       }
