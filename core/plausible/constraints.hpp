@@ -8,6 +8,16 @@
 
 namespace chainmail {
 
+// Whether `apart` reaches past `range` along `way` (any length, not normalised) by a margin no
+// rounding of the normalised test apart . way / |way| >= range can cross: true only where that
+// test holds. No square root, no division.
+inline bool clear_along(const Vec3& apart, const Vec3& way, double range) {
+  const double way2 = way.squaredNorm();  // m^2
+  if (way2 < 1e-24) return false;
+  const double along = apart.dot(way);  // m^2
+  return along > 0.0 && along * along > (1.0 + 1e-9) * (range * range) * way2;
+}
+
 // Provot edge constraint: keep |p1 - p0| within [min_length, max_length].
 // The correction is shared by inverse mass; pinned ends (w = 0) do not move.
 // Returns the violation |length - bound| (m), 0 when the edge already satisfies the bounds

@@ -389,6 +389,8 @@ double PlausibleSim::solve_contacts() {
     // through another during the step goes back to its own side (no tunnelling), and the
     // distance is at least the separation along that direction
     Vec3 normal = before.col(pair.b) - before.col(pair.a);
+    // most candidates are far apart: decided without the square root and division
+    if (clear_along(p.col(pair.b) - p.col(pair.a), normal, range)) return 0.0;
     if (normal.squaredNorm() < 1e-24) normal = p.col(pair.b) - p.col(pair.a);
     const double length = normal.norm();
     if (length < 1e-12) return 0.0;

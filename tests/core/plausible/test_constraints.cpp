@@ -2,6 +2,9 @@
 // mass, and the violation they report (the sweeps' residual) equal to the distance corrected.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <random>
+
 #include "core/plausible/constraints.hpp"
 
 namespace chainmail {
@@ -69,6 +72,35 @@ TEST(SlideTowardFaces, TurnsTheNormalTowardTheAxesOnTheirSide) {
   // the push keeps closing a gap along the normal: dot >= 1 / sqrt(1 + 4 slip^2)
   const Vec3 across_only = slide_toward_faces(normal, Vec3::UnitZ(), Vec3::UnitZ(), 1.0);
   EXPECT_NEAR(across_only.dot(normal), 1.0 / std::sqrt(5.0), 1e-15);
+}
+
+TEST(ClearAlong, HoldsOnlyWhereTheNormalisedTestHolds) {
+  // random separations and directions of every scale the contact sweep meets, many within a
+  // rounding of the range: wherever the cheap test says clear, the normalised one agrees; and it
+  // says clear for most pairs well past the range (it would be no use otherwise)
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), scale(-9.0, -1.0);
+  const double range = 0.0064;  // m
+  int clear = 0, far = 0, near = 0;
+  for (int k = 0; k < 200000; ++k) {
+    const Vec3 way = std::pow(10.0, scale(random)) * Vec3(unit(random), unit(random), unit(random));
+    const Vec3 n = way / way.norm();
+    // half of them a few roundings from the range along the way, half anywhere near it
+    const double along = k % 2 ? range * (1.0 + 1e-15 * std::round(20.0 * unit(random)))
+                               : range * (1.0 + unit(random));
+    const Vec3 apart = along * n + range * Vec3(unit(random), unit(random), unit(random)).cross(n);
+    const double gap = apart.dot(n) - range;  // the sweep's test: clear where gap >= 0
+    if (clear_along(apart, way, range)) {
+      ++clear;
+      EXPECT_GE(gap, 0.0) << k;
+    }
+    if (gap > 1e-6 * range) {
+      ++far;
+      near += !clear_along(apart, way, range);
+    }
+  }
+  EXPECT_GT(clear, 0);
+  EXPECT_LT(near, far / 1000);  // past the margin, every pair well clear is found clear
 }
 
 }  // namespace
