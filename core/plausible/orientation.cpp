@@ -93,6 +93,12 @@ int neighbour_count(const Weave& weave, int i) {
   return count;
 }
 
+// neighbours set in a mask of the four neighbour slots (std::popcount compiles to a library call
+// where the target has no popcount instruction, and the searches count a mask for every turn)
+constexpr int slots_set(unsigned mask) {
+  return static_cast<int>((mask & 1u) + (mask >> 1 & 1u) + (mask >> 2 & 1u) + (mask >> 3 & 1u));
+}
+
 // one ring's candidate turns about its local X and Z axes, 7.5 degrees apart up to 90 either way,
 // in the grid's order (a-major), each with the neighbours it links as bits by neighbour slot.
 // With `enough`, the search goes by size of turn and stops at the first turn linking that many
@@ -107,7 +113,7 @@ struct TurnCandidates {
   // neighbours linked by turn a, the neighbour in `skip` (a slot, or -1) left out; -1 unsearched
   int linked(int a, int skip) const {
     if (links[a] == kUnsearched) return -1;
-    return std::popcount(static_cast<unsigned>(skip < 0 ? links[a] : links[a] & ~(1u << skip)));
+    return slots_set(skip < 0 ? links[a] : links[a] & ~(1u << skip));
   }
 };
 
@@ -158,13 +164,13 @@ TurnCandidates turn_candidates(const Positions& p, const Weave& weave, const Ori
     // the cheap test first; the exact one only where the turn could link more than `floor`
     unsigned maybe = 0, links = 0;
     for (int k = 0; k < count; ++k) maybe |= unsigned{circles_may_link(mine, theirs[k])} << k;
-    if (std::popcount(maybe) > floor) {
+    if (slots_set(maybe) > floor) {
       for (int k = 0; k < count; ++k) {
         if (maybe >> k & 1u) links |= unsigned{circles_linked(mine, theirs[k])} << slot[k];
       }
     }
     out.q[cell] = q, out.links[cell] = static_cast<std::uint8_t>(links);
-    if (std::popcount(links) >= enough) break;
+    if (slots_set(links) >= enough) break;
   }
   return out;
 }
