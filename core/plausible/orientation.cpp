@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -290,8 +289,8 @@ int keep_links(const Positions& position, const Weave& weave, const RingGeometry
     for (int i = 0; i < n; ++i) {
       for (int slot = 0; slot < 4; ++slot) {
         const int k = weave.neighbours[i][slot];
-        if (k <= i || circles_linked(circle_of(position, orientation, i, c),
-                                     circle_of(position, orientation, k, c))) {
+        if (k <= i || linked_fast(circle_of(position, orientation, i, c),
+                                  circle_of(position, orientation, k, c))) {
           continue;
         }
         const int stamp = pair_stamp[i][slot];

@@ -100,7 +100,7 @@ TEST(ClearAlong, HoldsOnlyWhereTheNormalisedTestHolds) {
     }
   }
   EXPECT_GT(clear, 0);
-  EXPECT_LT(near, far / 1000);  // past the margin, every pair well clear is found clear
+  EXPECT_LT(near, far / 1000);  // well past the margin, nearly every clear pair is found clear
 }
 
 }  // namespace
