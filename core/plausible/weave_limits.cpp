@@ -80,6 +80,10 @@ WeaveLimits four_in_one_limits(const RingGeometry& ring, double lean) {
   // whose centres are 2c apart cannot link (rigid rings, which turn out of each other's way, keep
   // 1.2 to 1.3 ID in a corner-hung sheet; the tori of rings at the extended swivel touch at 1.31)
   limits.knight = 2.0 * ring.centre_radius;
+  // links to the rows on both sides hold a ring in the sheet's plane, rim to rim; a ring of the
+  // first or last row, hinged on the links to its one row, turns out of the plane and past its
+  // column neighbour's rim (a ring at a row's end still has both rows: it keeps the rim)
+  limits.column_edge = std::min(limits.column, limits.knight);
   return limits;
 }
 
@@ -99,6 +103,11 @@ struct GridIndex {
   }
   int at(int i, int j) const {
     return i < 0 || j < 0 || i >= rows_i || j >= cols_j ? -1 : index[i * cols_j + j];
+  }
+  // whether the ring at (i, j) has no link to the row before it ((i - 1, j), (i, j + 1)) or none
+  // to the row after it ((i + 1, j), (i, j - 1)): the sheet's first or last row
+  bool in_end_row(int i, int j) const {
+    return (at(i - 1, j) < 0 && at(i, j + 1) < 0) || (at(i + 1, j) < 0 && at(i, j - 1) < 0);
   }
 };
 
@@ -127,7 +136,9 @@ std::vector<DiagonalPair> diagonal_pairs(const Weave& weave, const WeaveLimits& 
     const int row = grid.at(i + 1, j + 1), column = grid.at(i + 1, j - 1);
     if (row >= 0) pairs.push_back({std::min(k, row), std::max(k, row), limits.row, limits.row_max});
     if (column >= 0) {
-      pairs.push_back({std::min(k, column), std::max(k, column), limits.column,
+      const bool edge = grid.in_end_row(i, j) || grid.in_end_row(i + 1, j - 1);
+      pairs.push_back({std::min(k, column), std::max(k, column),
+                       edge ? limits.column_edge : limits.column,
                        std::numeric_limits<double>::infinity()});
     }
   }

@@ -32,6 +32,9 @@ struct WeaveLimits {
   double link = 0.0;
   double row = 0.0;     // closest (i +- 1, j +- 1), side by side in one row: leaning coins
   double column = 0.0;  // closest (i +- 1, j -+ 1), two rows apart in one column: rim to rim
+  // the same where either ring lies in the sheet's first or last row: linked to one row only, it
+  // turns about its links out of the sheet's plane, and keeps only the knights' rule, 2c
+  double column_edge = 0.0;
   // the farthest (i +- 1, j +- 1): the two links to a ring they share at their reach in their
   // direction (four_in_one_link_reach) while the column is at its closest; infinite where the
   // links have no reach
@@ -48,7 +51,8 @@ struct DiagonalPair {
   int a, b;         // a < b
   double min, max;  // m
 };
-// every (i, j)-(i + 1, j + 1) and (i, j)-(i + 1, j - 1) pair of a 4-in-1 weave (none otherwise)
+// every (i, j)-(i + 1, j + 1) and (i, j)-(i + 1, j - 1) pair of a 4-in-1 weave (none otherwise);
+// a column pair with a ring of the sheet's first or last row is kept limits.column_edge apart
 std::vector<DiagonalPair> diagonal_pairs(const Weave& weave, const WeaveLimits& limits);
 // every (i, j)-(i + 2, j + 1) and (i, j)-(i + 1, j + 2) pair of a 4-in-1 weave, kept at least
 // limits.knight apart (none otherwise)

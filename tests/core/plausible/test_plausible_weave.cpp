@@ -83,6 +83,49 @@ TEST(WeaveLimits, KnightPairsStopWhereRingsCouldPassThroughEachOther) {
   EXPECT_TRUE(circles_linked(first, second));
 }
 
+TEST(WeaveLimits, AnEdgeRingTurnedOutOfTheSheetPassesItsColumnNeighboursRim) {
+  // two rings of one row, the ring of the next row linked to both at its rest spot, and a ring of
+  // the row before linked to the same two and to nothing else (the sheet's edge): in the sheet's
+  // plane it comes no closer to the ring two rows on than rim to rim; turned about the row, out of
+  // the plane, it comes closer than 2c, linked to and clear of both, clear of and not linked to
+  // the ring two rows on
+  const double c = kRing.centre_radius, a = kRing.wire_radius;
+  const double angle = fitted_extended_swivel(kRing, 0.95 * kRing.inner_diameter());
+  const WeaveLimits limits = four_in_one_limits(kRing, angle);
+  const double row = 0.5 * (limits.row + limits.row_max);
+  const Circle left = ring_circle(Vec3(-0.5 * row, 0, 0), lean(angle), c);
+  const Circle right = ring_circle(Vec3(0.5 * row, 0, 0), lean(angle), c);
+  const Circle next = ring_circle(Vec3(0, 0, -0.5 * limits.column), lean(-angle), c);
+  for (const Circle& side : {left, right}) {
+    ASSERT_TRUE(circles_linked(side, next));
+    ASSERT_FALSE(circles_closer_than(side, next, 2.0 * a).has_value());
+  }
+  // the edge ring's closest valid distance to `next` along the column, turned by `turn` (rad)
+  auto closest_edge = [&](double turn) {
+    double best = std::numeric_limits<double>::infinity();
+    const Quat q = Quat(Eigen::AngleAxisd(turn, Vec3::UnitX())) * lean(-angle);
+    for (int k = 0; k <= 112; ++k) {
+      const double z = 0.5 * limits.column * k / 112.0;
+      const Circle edge = ring_circle(Vec3(0, 0, z), q, c);
+      bool valid = !circles_linked(edge, next) && !circles_closer_than(edge, next, 2.0 * a);
+      for (const Circle& side : {left, right}) {
+        valid = valid && circles_linked(side, edge) && !circles_closer_than(side, edge, 2.0 * a);
+      }
+      if (valid) best = std::min(best, z + 0.5 * limits.column);
+    }
+    return best;
+  };
+  EXPECT_GE(closest_edge(0.0), limits.column * (1.0 - 1e-9));
+  double turned = std::numeric_limits<double>::infinity();
+  for (int degrees = 5; degrees < 180; degrees += 5) {
+    turned = std::min(turned, closest_edge(degrees * std::numbers::pi / 180.0));
+  }
+  std::printf("edge ring: in the plane %.3f ID, turned out of it %.3f ID (2c %.3f)\n",
+              closest_edge(0.0) / kRing.inner_diameter(), turned / kRing.inner_diameter(),
+              limits.knight / kRing.inner_diameter());
+  EXPECT_LT(turned, limits.column_edge);
+}
+
 // a rhombus of four rings, the two of one row at +-row / 2 along X leaning +angle, the two of the
 // rows before and after at +-column / 2 along Z leaning -angle: are its links linked and clear?
 bool rhombus_holds(double angle, double row, double column) {
@@ -148,28 +191,62 @@ Scene loose_sheet(const json& pins = json::array()) {
       "test");
 }
 
-// the smallest distance among the sheet's pairs (i, j)-(i + di, j + dj), m
-double closest(const Weave& weave, const Positions& p, int dj, int di = 1) {
+// whether a ring has no link to the row before it ((i - 1, j), (i, j + 1)) or none to the row
+// after it ((i + 1, j), (i, j - 1)): it lies in the sheet's first or last row
+bool in_end_row(const Weave& weave, int ring) {
+  const auto& n = weave.neighbours[ring];  // (i - 1, j), (i + 1, j), (i, j - 1), (i, j + 1)
+  return (n[0] < 0 && n[3] < 0) || (n[1] < 0 && n[2] < 0);
+}
+
+// all pairs; pairs of rings within the sheet's rows; pairs with a ring of the first or last row
+enum class Rings { all, interior, edge };
+
+// the smallest distance among the sheet's pairs (i, j)-(i + di, j + dj) of this kind, m
+double closest(const Weave& weave, const Positions& p, int dj, int di = 1,
+               Rings rings = Rings::all) {
   double best = std::numeric_limits<double>::infinity();
   for (int a = 0; a < weave.size(); ++a) {
     for (int b = 0; b < weave.size(); ++b) {
-      if (weave.grid[b][0] == weave.grid[a][0] + di && weave.grid[b][1] == weave.grid[a][1] + dj)
-        best = std::min(best, (p.col(a) - p.col(b)).norm());
+      if (weave.grid[b][0] != weave.grid[a][0] + di || weave.grid[b][1] != weave.grid[a][1] + dj)
+        continue;
+      const bool edge = in_end_row(weave, a) || in_end_row(weave, b);
+      if (rings == Rings::interior && edge) continue;
+      if (rings == Rings::edge && !edge) continue;
+      best = std::min(best, (p.col(a) - p.col(b)).norm());
     }
   }
   return best;
 }
 
+TEST(WeaveLimits, ColumnPairsWithAnEdgeRingKeepTheKnightsRule) {
+  // column pairs meet rim to rim; a pair with a ring of the first or last row keeps only 2c (a
+  // ring at a row's end is linked to the rows on both sides: it keeps the rim)
+  const Weave weave = make_weave(loose_sheet().weave, kRing);
+  const WeaveLimits limits = four_in_one_limits(kRing, 0.46);
+  EXPECT_DOUBLE_EQ(limits.column_edge, 2.0 * kRing.centre_radius);
+  int edge = 0, interior = 0;
+  for (const DiagonalPair& pair : diagonal_pairs(weave, limits)) {
+    const auto &a = weave.grid[pair.a], &b = weave.grid[pair.b];
+    if (b[0] - a[0] != a[1] - b[1]) continue;  // not a column pair
+    const bool on = in_end_row(weave, pair.a) || in_end_row(weave, pair.b);
+    (on ? edge : interior) += 1;
+    EXPECT_DOUBLE_EQ(pair.min, on ? limits.column_edge : limits.column) << pair.a << " " << pair.b;
+  }
+  EXPECT_GT(edge, 0);
+  EXPECT_GT(interior, 0);
+}
+
 TEST(PlausibleWeave, SheetPushedTogetherInBothDirectionsStopsAtTheDerivedDistances) {
   // every ring is driven toward the sheet's centre along the row and along the column at once
   // (the compression the paper assumes never happens): the columns close up until rings two rows
-  // apart meet rim to rim at 2(c + a); the rows until rings of adjacent rows a row and a half
-  // apart are 2c apart, before the rings of one row stack at 2a / sin(lean)
+  // apart meet rim to rim at 2(c + a), or at 2c where one lies in the first or last row; the
+  // rows until rings of adjacent rows a row and a half apart are 2c apart, before the rings of
+  // one row stack at 2a / sin(lean)
   const Scene scene = loose_sheet();
   const Weave weave = make_weave(scene.weave, scene.ring);
   const double a = scene.ring.wire_radius, c = scene.ring.centre_radius;
   // closest (i + 1, j + 1), (i + 1, j - 1) and (i + 2, j + 1), with and without limits
-  double row[2], column[2], knight[2];
+  double row[2], column[2], knight[2], column_edge = 0.0;
   for (const bool limits : {true, false}) {
     PlausibleSettings settings;
     settings.compression_limits = limits;
@@ -184,7 +261,8 @@ TEST(PlausibleWeave, SheetPushedTogetherInBothDirectionsStopsAtTheDerivedDistanc
       sim.step(0.004);
     }
     row[limits] = closest(weave, sim.state().position, 1);
-    column[limits] = closest(weave, sim.state().position, -1);
+    column[limits] = closest(weave, sim.state().position, -1, 1, Rings::interior);
+    if (limits) column_edge = closest(weave, sim.state().position, -1, 1, Rings::edge);
     knight[limits] = std::min(closest(weave, sim.state().position, 1, 2),
                               closest(weave, sim.state().position, 2, 1));
     if (limits) {
@@ -192,11 +270,14 @@ TEST(PlausibleWeave, SheetPushedTogetherInBothDirectionsStopsAtTheDerivedDistanc
       const double lean = sim.model().extended_swivel;
       std::printf(
           "pushed sheet: rows close to %.3f mm (2a / sin(lean) %.3f), columns to %.3f mm "
-          "(2(c + a) %.3f), pairs a row and a half apart to %.3f mm (2c %.3f)\n",
-          1e3 * row[1], 2e3 * a / std::sin(lean), 1e3 * column[1], 2e3 * (c + a), 1e3 * knight[1],
-          2e3 * c);
+          "(2(c + a) %.3f), at the edge %.3f mm (2c), pairs a row and a half apart to %.3f mm "
+          "(2c %.3f)\n",
+          1e3 * row[1], 2e3 * a / std::sin(lean), 1e3 * column[1], 2e3 * (c + a),
+          1e3 * column_edge, 1e3 * knight[1], 2e3 * c);
       EXPECT_GT(row[1], 0.99 * 2.0 * a / std::sin(lean));
       EXPECT_NEAR(column[1], 2.0 * (c + a), 0.01 * column[1]);
+      EXPECT_GT(column_edge, 0.99 * 2.0 * c);
+      EXPECT_LT(column_edge, 0.99 * 2.0 * (c + a));
       EXPECT_NEAR(knight[1], 2.0 * c, 0.01 * knight[1]);
     }
   }
