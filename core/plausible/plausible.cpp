@@ -255,9 +255,10 @@ double PlausibleSim::headroom() const {
 
 void PlausibleSim::control_substeps(double dt) {
   // one sweep a substep leaves the links a stretch that falls with the square of the substeps
-  // (Macklin et al. 2019) and grows with the rows a sheet hangs by. The control reads the links'
+  // (Macklin et al. 2019) and grows with the rows a sheet hangs by. The control reads the edges'
   // largest stretch the scheduled sweeps met (not the attachments': theirs is a whole path's; not
-  // contacts' or colliders': the speed floor below bounds how far a substep presses into them).
+  // the diagonals' or contacts' or colliders': theirs is compression, and the speed floor below
+  // bounds how far a substep presses into them; the extra sweeps still read the diagonals).
   // Past the control level, the next step takes at least a quarter more substeps; otherwise, the
   // count that would bring the stretch to the target (kStretchTarget of the headroom), falling
   // by at most an eighth a step

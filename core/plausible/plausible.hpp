@@ -197,7 +197,7 @@ struct PlausibleState {
   bool newton_stalled = false;
   int substeps = 0;        // automatic substeps: what the stretch control gives the next step
   int speed_substeps = 1;  // automatic substeps: what the rings' speed asks of the step
-  // m, the links' largest stretch the step's substeps met in their scheduled sweeps (extra sweeps
+  // m, the edges' largest stretch the step's substeps met in their scheduled sweeps (extra sweeps
   // past iterations not counted): what the stretch control reads
   double scheduled_stretch = 0.0;
   double residual = 0.0;  // m
@@ -224,10 +224,11 @@ constexpr const char* stage_name(PlausibleStage stage) {
 
 // the largest violation one sweep met, m: the long-range attachments' (a ring farther from its
 // pins than its links allow: the sum of a path's stretch) apart from the links' own (edges and
-// diagonals), which the stretch bound is about
+// diagonals), and of those the edges' alone, which the stretch bound is about
 struct SweepViolation {
   double attachments = 0.0;  // m
   double links = 0.0;        // m
+  double edges = 0.0;        // m
   double worst() const { return attachments > links ? attachments : links; }
 };
 

@@ -149,8 +149,8 @@ SweepViolation PlausibleSim::sweep_links() {
   const int team = parallel_loops_available() ? std::max(1, std::min(threads_, count / 2)) : 1;
   std::vector<double> busy(team, 0.0);  // s, each thread's time solving (not waiting)
   int members = 1;
-  double attachments = 0.0, links = 0.0;  // m
-#pragma omp parallel num_threads(team) reduction(max : attachments, links)
+  double attachments = 0.0, links = 0.0, edges = 0.0;  // m
+#pragma omp parallel num_threads(team) reduction(max : attachments, links, edges)
   {
     // this thread's run of bands (from the team it got, which may be smaller than asked; a new
     // team size starts from an even split)
@@ -187,6 +187,7 @@ SweepViolation PlausibleSim::sweep_links() {
         const double met = solve_stage_band(bands.stages[s], k);  // m
         double& kind = bands.stages[s].kind == SweepBands::Kind::attachments ? attachments : links;
         kind = std::max(kind, met);
+        if (bands.stages[s].kind == SweepBands::Kind::edges) edges = std::max(edges, met);
         // only the run's edge bands are waited for
         if (k == first || k == last - 1) report(progress[k], s + 1);
       }
@@ -195,7 +196,7 @@ SweepViolation PlausibleSim::sweep_links() {
   }
   busy.resize(members);
   balance_band_split(busy);
-  return {attachments, links};
+  return {attachments, links, edges};
 }
 
 void PlausibleSim::balance_band_split(const std::vector<double>& busy) {

@@ -72,10 +72,10 @@ void PlausibleSim::solve_positions(bool slide) {
     const double residual = std::max(local, links.attachments);  // m
     ++state_.sweeps;
     state_.residual = residual;
-    // the links' stretch the scheduled sweeps met, before any extra ones: the stretch control's
+    // the edges' stretch the scheduled sweeps met, before any extra ones: the stretch control's
     // signal
     if (state_.sweeps <= iterations) {
-      state_.scheduled_stretch = std::max(state_.scheduled_stretch, links.links);
+      state_.scheduled_stretch = std::max(state_.scheduled_stretch, links.edges);
     }
     if (residual <= tolerance) return;
     if (state_.sweeps >= iterations && links.links <= control) break;
