@@ -272,8 +272,8 @@ TEST(PlausibleWeave, SheetPushedTogetherInBothDirectionsStopsAtTheDerivedDistanc
           "pushed sheet: rows close to %.3f mm (2a / sin(lean) %.3f), columns to %.3f mm "
           "(2(c + a) %.3f), at the edge %.3f mm (2c), pairs a row and a half apart to %.3f mm "
           "(2c %.3f)\n",
-          1e3 * row[1], 2e3 * a / std::sin(lean), 1e3 * column[1], 2e3 * (c + a),
-          1e3 * column_edge, 1e3 * knight[1], 2e3 * c);
+          1e3 * row[1], 2e3 * a / std::sin(lean), 1e3 * column[1], 2e3 * (c + a), 1e3 * column_edge,
+          1e3 * knight[1], 2e3 * c);
       EXPECT_GT(row[1], 0.99 * 2.0 * a / std::sin(lean));
       EXPECT_NEAR(column[1], 2.0 * (c + a), 0.01 * column[1]);
       EXPECT_GT(column_edge, 0.99 * 2.0 * c);
