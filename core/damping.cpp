@@ -95,11 +95,10 @@ void damp_toward_rigid(const RigidFreedom& freedom, const Positions& position, c
   if (fraction <= 0.0) return;
   const RigidMotion rigid = fit_rigid_motion(freedom, position, velocity, mass, inverse_mass);
   const int n = static_cast<int>(position.cols());
-#pragma omp parallel for schedule(static) num_threads(loop_threads(threads, n))
-  for (int i = 0; i < n; ++i) {
-    if (inverse_mass[i] == 0.0) continue;
+  parallel_for(0, n, loop_threads(threads, n), [&](int i) {
+    if (inverse_mass[i] == 0.0) return;
     velocity.col(i) += fraction * (rigid.at(position.col(i)) - velocity.col(i));
-  }
+  });
 }
 
 }  // namespace chainmail

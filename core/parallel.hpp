@@ -44,6 +44,35 @@ inline int loop_threads(int threads, int count, int grain = 512) {
   return std::clamp(count / std::max(1, grain), 1, std::max(1, threads));
 }
 
+// body(i) for i in [begin, end), on `team` threads with a static schedule. A team of one runs the
+// loop here: entering the OpenMP runtime wakes its pool of threads even for a team of one, a cost
+// a small sheet's step would pay at every loop
+template <class Body>
+void parallel_for(int begin, int end, int team, Body&& body) {
+#if defined(CHAINMAIL_HAS_OPENMP)
+  if (team > 1) {
+#pragma omp parallel for schedule(static) num_threads(team)
+    for (int i = begin; i < end; ++i) body(i);
+    return;
+  }
+#endif
+  for (int i = begin; i < end; ++i) body(i);
+}
+
+// the largest of `worst` and every body(i), i in [begin, end), as parallel_for runs them
+template <class Body>
+double parallel_max(int begin, int end, int team, double worst, Body&& body) {
+#if defined(CHAINMAIL_HAS_OPENMP)
+  if (team > 1) {
+#pragma omp parallel for schedule(static) num_threads(team) reduction(max : worst)
+    for (int i = begin; i < end; ++i) worst = std::max(worst, body(i));
+    return worst;
+  }
+#endif
+  for (int i = begin; i < end; ++i) worst = std::max(worst, body(i));
+  return worst;
+}
+
 // bytes in a cache line (x86-64 and most ARM cores): data two threads write at once is aligned to
 // it (alignas(kCacheLine)) so that each writes lines of its own
 inline constexpr std::size_t kCacheLine = 64;

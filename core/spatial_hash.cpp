@@ -32,8 +32,7 @@ void SpatialHash::locate_points(const Positions& points, int team, std::vector<C
   const int n = static_cast<int>(points.cols());
   std::vector<std::array<std::int64_t, 3>>& cell = scratch_.cell;
   cell.resize(n);
-#pragma omp parallel for schedule(static) num_threads(team)
-  for (int t = 0; t < team; ++t) {
+  parallel_for(0, team, team, [&](int t) {
     const int begin = static_cast<int>(static_cast<long long>(n) * t / team);
     const int end = static_cast<int>(static_cast<long long>(n) * (t + 1) / team);
     std::int64_t lo[3] = {kNotInGrid, kNotInGrid, kNotInGrid};
@@ -62,7 +61,7 @@ void SpatialHash::locate_points(const Positions& points, int team, std::vector<C
       part.lo[a] = lo[a];
       part.hi[a] = hi[a];
     }
-  }
+  });
 }
 
 // the boxes joined, and the finite points listed in index order (each part from its first place)
@@ -86,14 +85,13 @@ void SpatialHash::join_parts(std::vector<CellPart>& parts, int n, int team, std:
     for (int i = 0; i < n; ++i) finite[i] = i;
     return;
   }
-#pragma omp parallel for schedule(static) num_threads(team)
-  for (int t = 0; t < team; ++t) {
+  parallel_for(0, team, team, [&](int t) {
     const int end = t + 1 < team ? parts[t + 1].begin : n;
     int at = parts[t].count;
     for (int i = parts[t].begin; i < end; ++i) {
       if (cell[i][0] != kNotInGrid) finite[at++] = i;
     }
-  }
+  });
 }
 
 // dense when the box holds at most 32 cells per point, or at most 4096 cells in all (small sets)
@@ -118,23 +116,21 @@ std::int64_t SpatialHash::key_points(int n, const std::int64_t lo[3], const std:
   const int count = static_cast<int>(finite.size());
   if (dense_) {
     table = cells;
-#pragma omp parallel for schedule(static) num_threads(team)
-    for (int k = 0; k < count; ++k) {
+    parallel_for(0, count, team, [&](int k) {
       const int i = finite[k];
       key_of[i] = static_cast<std::uint64_t>(
           dense_index(cell[i][0] - lo[0], cell[i][1] - lo[1], cell[i][2] - lo[2]));
       bucket_of[i] = static_cast<int>(key_of[i]);
-    }
+    });
   } else {
     table = 64;
     while (table < (table_size > 0 ? table_size : 2 * n)) table *= 2;
     mask_ = static_cast<std::uint64_t>(table - 1);
-#pragma omp parallel for schedule(static) num_threads(team)
-    for (int k = 0; k < count; ++k) {
+    parallel_for(0, count, team, [&](int k) {
       const int i = finite[k];
       key_of[i] = pack_cell(cell[i][0], cell[i][1], cell[i][2]);
       bucket_of[i] = bucket_of_key(key_of[i]);
-    }
+    });
   }
   return table;
 }
@@ -161,12 +157,11 @@ void SpatialHash::sort_by_bucket(const Positions& points, std::int64_t table, in
   auto part_begin = [&](int t) {
     return static_cast<int>(static_cast<long long>(count) * t / sorters);
   };
-#pragma omp parallel for schedule(static) num_threads(sorters)
-  for (int t = 0; t < sorters; ++t) {
+  parallel_for(0, sorters, sorters, [&](int t) {
     int* const own = fill.data() + static_cast<std::ptrdiff_t>(t) * table;
     std::fill(own, own + table, 0);
     for (int k = part_begin(t); k < part_begin(t + 1); ++k) ++own[bucket_of[finite[k]]];
-  }
+  });
   int total = 0;
   for (std::int64_t b = 0; b < table; ++b) {
     bucket_start_[b] = total;
@@ -178,8 +173,7 @@ void SpatialHash::sort_by_bucket(const Positions& points, std::int64_t table, in
     }
   }
   bucket_start_[table] = count;
-#pragma omp parallel for schedule(static) num_threads(sorters)
-  for (int t = 0; t < sorters; ++t) {
+  parallel_for(0, sorters, sorters, [&](int t) {
     int* const own = fill.data() + static_cast<std::ptrdiff_t>(t) * table;
     for (int k = part_begin(t); k < part_begin(t + 1); ++k) {
       const int i = finite[k];
@@ -188,7 +182,7 @@ void SpatialHash::sort_by_bucket(const Positions& points, std::int64_t table, in
       sorted_key_[slot] = key_of[i];
       sorted_position_.col(slot) = points.col(i);
     }
-  }
+  });
 }
 
 long long SpatialHash::foreign_entries() const {

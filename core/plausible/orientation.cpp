@@ -414,29 +414,27 @@ void orient_rings(const Positions& position, const Weave& weave, const RingGeome
   // unit, with the neighbour spacing along each
   std::vector<GridAxes> axes(n);
   const int threads = loop_threads(settings.threads, n);
-#pragma omp parallel for schedule(static) num_threads(threads)
-  for (int i = 0; i < n; ++i) {
+  parallel_for(0, n, threads, [&](int i) {
     const auto& nb = weave.neighbours[i];
     GridAxes& g = axes[i];
     g.has_x = axis_vector(position, i, nb[0], nb[1], g.x, g.dx);
     g.has_z = axis_vector(position, i, nb[2], nb[3], g.z, g.dz);
     if (g.has_x) g.x /= nb[0] >= 0 && nb[1] >= 0 ? 2.0 * g.dx : g.dx;
     if (g.has_z) g.z /= nb[2] >= 0 && nb[3] >= 0 ? 2.0 * g.dz : g.dz;
-  }
-#pragma omp parallel for schedule(static) num_threads(threads)
-  for (int i = 0; i < n; ++i) {
+  });
+  parallel_for(0, n, threads, [&](int i) {
     const auto& nb = weave.neighbours[i];
     // a ring with neighbours on one axis only (a sheet's corner) borrows the other axis from a
     // neighbour that has it: taken from positions alone, never from its own last orientation,
     // which would compose last step's swivel again every step
     GridAxes g = axes[i];
-    if (!g.has_x && !g.has_z) continue;
-    if (!borrow_axis(axes, nb, g)) continue;
+    if (!g.has_x && !g.has_z) return;
+    if (!borrow_axis(axes, nb, g)) return;
     const Vec3 xn = g.x, zn = g.z;
     const double dx = g.dx, dz = g.dz;
     const Vec3 normal = zn.cross(xn);
     const double sine = normal.norm();
-    if (sine < 1e-6) continue;  // x and z (anti)parallel: degenerate, keep the old orientation
+    if (sine < 1e-6) return;  // x and z (anti)parallel: degenerate, keep the old orientation
     const Mat3 basis = basis_from_unit_axes(xn, zn, normal / sine);
     Quat q(basis);
 
@@ -457,7 +455,7 @@ void orient_rings(const Positions& position, const Weave& weave, const RingGeome
       }
     }
     store(orientation, i, q.normalized());
-  }
+  });
 }
 
 }  // namespace chainmail

@@ -23,13 +23,12 @@ Eigen::Map<const Eigen::VectorXd> view(const std::vector<double>& values) {
 template <class Pass>
 void for_ring_ranges(int n, int threads, Pass&& pass) {
   const int team = loop_threads(threads, n);
-#pragma omp parallel for schedule(static) num_threads(team)
-  for (int t = 0; t < team; ++t) {
+  parallel_for(0, team, team, [&](int t) {
     const int begin = static_cast<int>(static_cast<long long>(n) * t / team) & ~3;
     const int end =
         t + 1 == team ? n : static_cast<int>(static_cast<long long>(n) * (t + 1) / team) & ~3;
     pass(t, begin, end);
-  }
+  });
 }
 
 // the edges reachable from a pin, directed away from it (a = nearer the pin), ordered by the
@@ -292,8 +291,8 @@ void PlausibleSim::floor_substeps_by_speed(double dt) {
 void PlausibleSim::accumulate_forces() {
   auto scope = profile_.scope("forces");
   const int n = static_cast<int>(state_.position.cols());
-#pragma omp parallel for schedule(static) num_threads(loop_threads(threads_, n))
-  for (int i = 0; i < n; ++i) state_.force.col(i) = model_.mass[i] * model_.gravity;
+  parallel_for(0, n, loop_threads(threads_, n),
+               [&](int i) { state_.force.col(i) = model_.mass[i] * model_.gravity; });
 }
 
 void PlausibleSim::add_repulsion_forces() {
@@ -327,8 +326,7 @@ void PlausibleSim::refresh_contact_candidates(const RingMoves* measured) {
   const int walk = hash_.pair_walk_size(state_.position);
   const int parts = loop_threads(threads_, walk, 4096);
   if (static_cast<int>(contact_found_.size()) < parts) contact_found_.resize(parts);
-#pragma omp parallel for schedule(static) num_threads(parts)
-  for (int part = 0; part < parts; ++part) {
+  parallel_for(0, parts, parts, [&](int part) {
     std::vector<RingPair>& found = contact_found_[part].pairs;
     found.clear();
     const int begin = static_cast<int>(static_cast<long long>(walk) * part / parts);
@@ -336,7 +334,7 @@ void PlausibleSim::refresh_contact_candidates(const RingMoves* measured) {
     hash_.for_each_pair_in(state_.position, radius, begin, end, [&](int i, int j) {
       if (!model_.grid.constrained(i, j)) found.push_back({i, j});
     });
-  }
+  });
   state_.contact_candidates.clear();
   for (int part = 0; part < parts; ++part) {
     const std::vector<RingPair>& found = contact_found_[part].pairs;
@@ -402,15 +400,14 @@ void PlausibleSim::integrate(const Substep& substep, RingMoves* moves) {
     }
     return;
   }
-#pragma omp parallel for schedule(static) num_threads(loop_threads(threads_, n))
-  for (int i = 0; i < n; ++i) {
+  parallel_for(0, n, loop_threads(threads_, n), [&](int i) {
     state_.previous.col(i) = state_.position.col(i);
     state_.contact_push[i] = 0.0;
     const double w = model_.inverse_mass[i];
-    if (w == 0.0) continue;  // pinned
+    if (w == 0.0) return;  // pinned
     state_.velocity.col(i) += forces ? Vec3(dt * w * state_.force.col(i)) : fall;
     state_.position.col(i) += dt * state_.velocity.col(i);
-  }
+  });
 }
 
 void PlausibleSim::update_velocities(double dt, double damp_dt) {
@@ -422,9 +419,8 @@ void PlausibleSim::update_velocities(double dt, double damp_dt) {
   // Coulomb friction on the rings a collider pushed this step (only colliders push): the
   // tangential velocity loses at most mu times the normal velocity change
   if (model_.colliders.empty()) return damp(damp_dt);
-#pragma omp parallel for schedule(static) num_threads(loop_threads(threads_, n))
-  for (int i = 0; i < n; ++i) {
-    if (model_.inverse_mass[i] == 0.0 || state_.contact_push[i] <= 0.0) continue;
+  parallel_for(0, n, loop_threads(threads_, n), [&](int i) {
+    if (model_.inverse_mass[i] == 0.0 || state_.contact_push[i] <= 0.0) return;
     Vec3 v = state_.velocity.col(i);
     const Vec3 normal = state_.contact_normal.col(i);
     const Vec3 tangential = v - v.dot(normal) * normal;
@@ -432,7 +428,7 @@ void PlausibleSim::update_velocities(double dt, double damp_dt) {
     const double limit = state_.contact_friction[i] * state_.contact_push[i] / dt;
     if (speed > 0.0) v -= tangential * std::min(1.0, limit / speed);
     state_.velocity.col(i) = v;
-  }
+  });
   damp(damp_dt);
 }
 
@@ -471,8 +467,7 @@ void PlausibleSim::orient() const {
   if (first) state_.contact_axis.resize(3, n);
   const bool shaped = model_.shaped_contacts;
   if (shaped) state_.ring_axis.resize(3, n);
-#pragma omp parallel for schedule(static) num_threads(loop_threads(threads_, n))
-  for (int i = 0; i < n; ++i) {
+  parallel_for(0, n, loop_threads(threads_, n), [&](int i) {
     const Vec3 axis = Quat(o(0, i), o(1, i), o(2, i), o(3, i)) * Vec3::UnitY();
     if (shaped) state_.ring_axis.col(i) = axis;
     const Vec3 old = state_.contact_axis.col(i);
@@ -480,7 +475,7 @@ void PlausibleSim::orient() const {
     const Vec3 target = !first && axis.dot(old) < 0.0 ? Vec3(-axis) : axis;
     state_.contact_axis.col(i) =
         first ? target : Vec3((old + follow * (target - old)).normalized());
-  }
+  });
 }
 
 void PlausibleSim::frame(RingFrame& out) const {

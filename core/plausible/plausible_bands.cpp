@@ -148,24 +148,16 @@ SweepViolation PlausibleSim::sweep_links() {
   // rings are worth)
   const int team = parallel_loops_available() ? std::max(1, std::min(threads_, count / 2)) : 1;
   std::vector<double> busy(team, 0.0);  // s, each thread's time solving (not waiting)
-  int members = 1;
-  double attachments = 0.0, links = 0.0, edges = 0.0;  // m
-#pragma omp parallel num_threads(team) reduction(max : attachments, links, edges)
-  {
-    // this thread's run of bands (from the team it got, which may be smaller than asked; a new
-    // team size starts from an even split)
-    int me = 0;
-#if defined(CHAINMAIL_HAS_OPENMP)
-#pragma omp single
-    members = omp_get_num_threads();
-    me = omp_get_thread_num();
-#endif
-#pragma omp single
+  // a new team size starts from an even split
+  auto split_for = [&](int members) {
     if (static_cast<int>(band_split_.size()) != members + 1 || band_split_.back() != count) {
       band_split_.resize(members + 1);
       for (int t = 0; t <= members; ++t) band_split_[t] = count * t / members;
     }
-    const int first = band_split_[me], last = band_split_[me + 1];  // [first, last)
+  };
+  // thread `me`'s run of bands [first, last) through every stage: the largest violations it met
+  auto run = [&](int me, int first, int last) {
+    SweepViolation met;
     using Clock = std::chrono::steady_clock;
     const Clock::time_point start = Clock::now();
     Clock::duration waiting{};
@@ -184,19 +176,47 @@ SweepViolation PlausibleSim::sweep_links() {
           if (above) wait_for(progress[k + 1], s);
           waiting += Clock::now() - wait_start;
         }
-        const double met = solve_stage_band(bands.stages[s], k);  // m
-        double& kind = bands.stages[s].kind == SweepBands::Kind::attachments ? attachments : links;
-        kind = std::max(kind, met);
-        if (bands.stages[s].kind == SweepBands::Kind::edges) edges = std::max(edges, met);
+        const double found = solve_stage_band(bands.stages[s], k);  // m
+        double& kind =
+            bands.stages[s].kind == SweepBands::Kind::attachments ? met.attachments : met.links;
+        kind = std::max(kind, found);
+        if (bands.stages[s].kind == SweepBands::Kind::edges) met.edges = std::max(met.edges, found);
         // only the run's edge bands are waited for
         if (k == first || k == last - 1) report(progress[k], s + 1);
       }
     }
     busy[me] = std::chrono::duration<double>(Clock::now() - start - waiting).count();
+    return met;
+  };
+  int members = 1;
+  SweepViolation met;
+  if (team == 1) {
+    // one thread: the run here, outside the OpenMP runtime (parallel_for)
+    split_for(1);
+    met = run(0, 0, count);
+  } else {
+    double attachments = 0.0, links = 0.0, edges = 0.0;  // m
+#pragma omp parallel num_threads(team) reduction(max : attachments, links, edges)
+    {
+      // this thread's run of bands, from the team it got (which may be smaller than asked)
+      int me = 0;
+#if defined(CHAINMAIL_HAS_OPENMP)
+#pragma omp single
+      members = omp_get_num_threads();
+      me = omp_get_thread_num();
+#endif
+#pragma omp single
+      split_for(members);
+      const SweepViolation mine = run(me, band_split_[me], band_split_[me + 1]);
+      attachments = mine.attachments;
+      links = mine.links;
+      edges = mine.edges;
+    }
+    met = {attachments, links, edges};
   }
   busy.resize(members);
   balance_band_split(busy);
-  return {attachments, links, edges};
+  return met;
 }
 
 void PlausibleSim::balance_band_split(const std::vector<double>& busy) {

@@ -26,8 +26,7 @@ double sweep_colours(const Colouring& colours, int threads, Solve&& solve) {
     const int begin = colours.start[c], end = colours.start[c + 1];
     const bool serial = colours.serial_tail && c + 1 == colours.colours();
     const int team = serial ? 1 : loop_threads(threads, end - begin);
-#pragma omp parallel for schedule(static) num_threads(team) reduction(max : worst)
-    for (int k = begin; k < end; ++k) worst = std::max(worst, solve(k));
+    worst = parallel_max(begin, end, team, worst, solve);
   }
   return worst;
 }
@@ -323,15 +322,13 @@ double PlausibleSim::collider_margin(int ring, const Vec3& normal) const {
 
 double PlausibleSim::collide() {
   auto scope = profile_.scope("colliders");
-  double worst = 0.0;  // m
   const int n = static_cast<int>(state_.position.cols());
   const double reach = std::max(model_.settings.contact_margin,
                                 model_.ring.wire_radius + model_.ring.centre_radius);  // m
-  // each ring against every collider: rings are independent
-  const int team = loop_threads(threads_, n);
-#pragma omp parallel for schedule(static) num_threads(team) reduction(max : worst)
-  for (int i = 0; i < n; ++i) {
-    if (model_.inverse_mass[i] == 0.0) continue;
+  // each ring against every collider: rings are independent; the largest push, m
+  return parallel_max(0, n, loop_threads(threads_, n), 0.0, [&](int i) {
+    double pushed = 0.0;  // m
+    if (model_.inverse_mass[i] == 0.0) return pushed;
     for (const Collider& collider : model_.colliders) {
       Vec3 normal;
       const double distance = collider_distance(collider, state_.position.col(i), normal);
@@ -343,10 +340,10 @@ double PlausibleSim::collide() {
       state_.contact_push[i] += depth;
       state_.contact_normal.col(i) = normal;
       state_.contact_friction[i] = collider.friction;
-      worst = std::max(worst, depth);
+      pushed = std::max(pushed, depth);
     }
-  }
-  return worst;
+    return pushed;
+  });
 }
 
 double PlausibleSim::shaped_range(const RingPair& pair, const Vec3& normal) const {

@@ -1,6 +1,6 @@
 // core/parallel.hpp: per-thread slots and cache-line-aligned arrays, the layout that keeps two
 // threads writing side by side off each other's cache lines; the threads a step takes on a busy
-// machine.
+// machine; the loops that run a team of one outside the OpenMP runtime.
 #include <gtest/gtest.h>
 
 #include <signal.h>
@@ -44,6 +44,49 @@ TEST(PerThread, SlotsSitOnCacheLinesOfTheirOwn) {
     EXPECT_GE(next - here, kLine);
     EXPECT_NE(here / kLine, next / kLine);
     EXPECT_EQ(counts[k], static_cast<long long>(k) + 1);
+  }
+}
+
+TEST(ParallelFor, EveryIndexOnceOnAnyTeam) {
+  for (int team : {1, 2, 3}) {
+    std::vector<int> visits(1000, 0);
+    parallel_for(7, 1000, team, [&](int i) { ++visits[i]; });
+    for (int i = 0; i < 1000; ++i) EXPECT_EQ(visits[i], i < 7 ? 0 : 1) << team << " " << i;
+  }
+  int calls = 0;
+  parallel_for(5, 5, 2, [&](int) { ++calls; });  // an empty range runs nothing
+  EXPECT_EQ(calls, 0);
+}
+
+TEST(ParallelFor, ATeamOfOneRunsOutsideTheRuntime) {
+#if defined(CHAINMAIL_HAS_OPENMP)
+  // the team of one runs here, in order; a larger team runs in a parallel region
+  std::vector<int> order;
+  bool inside = true;
+  parallel_for(0, 50, 1, [&](int i) {
+    order.push_back(i);
+    inside = inside && omp_in_parallel();
+  });
+  EXPECT_FALSE(inside);
+  for (int i = 0; i < 50; ++i) EXPECT_EQ(order[i], i);
+  std::vector<char> in_region(50, 0);
+  parallel_for(0, 50, 2, [&](int i) { in_region[i] = omp_in_parallel() ? 1 : 0; });
+  for (int i = 0; i < 50; ++i) EXPECT_EQ(in_region[i], 1) << i;
+#else
+  GTEST_SKIP() << "built without OpenMP: every loop runs on one thread";
+#endif
+}
+
+TEST(ParallelMax, TheLargestOfTheStartAndEveryItemOnAnyTeam) {
+  std::vector<double> values(777);
+  for (int i = 0; i < 777; ++i) values[i] = static_cast<double>((i * 37) % 501);
+  for (int team : {1, 2, 4}) {
+    EXPECT_EQ(parallel_max(0, 777, team, 0.0, [&](int i) { return values[i]; }), 500.0) << team;
+    // the start wins where every item is below it; an empty range returns it
+    EXPECT_EQ(parallel_max(0, 777, team, 600.0, [&](int i) { return values[i]; }), 600.0) << team;
+    EXPECT_EQ(parallel_max(10, 10, team, 3.5, [&](int i) { return values[i]; }), 3.5) << team;
+    // one item: its own value, (13 * 37) % 501
+    EXPECT_EQ(parallel_max(13, 14, team, 0.0, [&](int i) { return values[i]; }), 481.0) << team;
   }
 }
 
